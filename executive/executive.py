@@ -1,0 +1,423 @@
+"""The Executive: one object owning the components, the tree, the clock, the safety gate and the
+recorder, running the control cycle of DESIGN.md section 2 (sense, estimate, perceive, decide,
+act, record, wait).
+
+It knows the robot only through a ``RobotIO`` (the simulator or real drivers) and the components
+only through the contract of ``behaviors.components``. A behaviour that raises fails on its own
+with the error recorded; an error anywhere else in a tick stops the robot for that tick and the
+loop carries on. Each Executive keeps its blackboard keys under its own namespace, so two missions
+in one process never see each other's goal or path.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Protocol
+
+import py_trees
+from py_trees.common import Status
+
+from hw.interfaces import Base, BaseEvents, BatteryState, Laser
+from navcore.clock import Clock, WallClock
+from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
+
+from executive.recorder import BlackboardWatcher, Recorder, subsample_path, walk
+from executive.safety import SafetyGate
+
+# Node types whose start counts as "a recovery fired" in logs, pictures and summaries.
+RECOVERY_TYPES = frozenset({
+    "ClearEntireCostmap", "ClearCostmapExceptRegion", "ClearCostmapAroundRobot",
+    "ClearCostmapAroundPose", "Spin", "BackUp", "DriveOnHeading", "Wait", "TemporaryGoal",
+    "BackOffToPreviousPose", "GlobalLocalization", "ReinitializeGlobalLocalization",
+    "RotateRecovery", "ClearCostmapRecovery", "MoveSlowAndClear",
+})
+
+_mission_ids = itertools.count(1)
+
+
+class RobotIO(Protocol):
+    """The robot as the executive sees it: the simulator or a set of real drivers."""
+
+    base: Base
+    laser: Laser | None
+
+    def step_to(self, t: float) -> None:
+        """Bring the world up to time ``t`` (the simulator steps physics; hardware does nothing)."""
+        ...
+
+    def true_pose(self) -> Pose2D | None:
+        """Ground truth in ``map`` (simulator only; None on hardware)."""
+        ...
+
+    def in_collision(self) -> bool:
+        """Whether the body overlaps an obstacle right now (simulator) or a bumper is pressed."""
+        ...
+
+
+Estimator = Callable[[Odometry | None, LaserScan | None, float], Pose2D | None]
+Perceiver = Callable[[Pose2D, LaserScan | None, float], None]
+
+
+class LiveRobotState:
+    """RobotState for behaviours: the executive refreshes it once per cycle (sense/estimate)."""
+
+    def __init__(self) -> None:
+        self._pose = Pose2D()
+        self._velocity = Twist()
+        self._battery: BatteryState | None = None
+        self._events = BaseEvents()
+
+    def pose(self) -> Pose2D:
+        return self._pose
+
+    def velocity(self) -> Twist:
+        return self._velocity
+
+    def battery(self) -> BatteryState | None:
+        return self._battery
+
+    def events(self) -> BaseEvents:
+        return self._events
+
+
+@dataclass
+class Trace:
+    """What happened during a mission, kept in memory for pictures and summaries."""
+
+    times: list[float] = field(default_factory=list)
+    poses: list[tuple[float, float, float]] = field(default_factory=list)
+    paths: list[tuple[float, list[list[float]]]] = field(default_factory=list)
+    recoveries: list[dict[str, Any]] = field(default_factory=list)
+    contacts: list[dict[str, Any]] = field(default_factory=list)
+    faults: dict[str, int] = field(default_factory=dict)
+    errors: list[dict[str, Any]] = field(default_factory=list)
+    overruns: int = 0
+    goals: list[tuple[float, float, float]] = field(default_factory=list)
+
+    def distance(self) -> float:
+        d = 0.0
+        for (x0, y0, _), (x1, y1, _) in zip(self.poses, self.poses[1:]):
+            d += math.hypot(x1 - x0, y1 - y0)
+        return d
+
+
+@dataclass
+class MissionResult:
+    """Outcome of ``Executive.run``: ``succeeded``, ``failed``, ``timeout`` or ``stopped``."""
+
+    outcome: str
+    goals_reached: int
+    goals_total: int
+    sim_time: float
+    ticks: int
+    distance: float
+    recoveries: list[str]
+    collisions: int
+    reason: str = ""
+
+    @property
+    def succeeded(self) -> bool:
+        return self.outcome == "succeeded"
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"outcome": self.outcome, "goals_reached": self.goals_reached,
+                "goals_total": self.goals_total, "time_s": round(self.sim_time, 3),
+                "ticks": self.ticks, "distance_m": round(self.distance, 3),
+                "recoveries": list(self.recoveries), "collisions": self.collisions,
+                "reason": self.reason}
+
+
+class Executive:
+    """Runs one behaviour tree against one robot, one control period per tick.
+
+    ``components`` are the keyword arguments of ``tree.setup`` (see behaviors.components); the
+    executive adds ``clock``, ``robot``, ``control_period`` and ``blackboard_namespace``.
+    ``estimator`` turns odometry and scans into a ``map`` pose (None: simulator ground truth);
+    ``perceivers`` update the costmaps from the pose and newest scan.
+    """
+
+    def __init__(self, tree: py_trees.trees.BehaviourTree, io: RobotIO, clock: Clock,
+                 control_period: float, components: dict[str, Any] | None = None, *,
+                 safety: SafetyGate | None = None, recorder: Recorder | None = None,
+                 estimator: Estimator | None = None, perceivers: list[Perceiver] | None = None,
+                 namespace: str | None = None, meta: dict[str, Any] | None = None) -> None:
+        if control_period <= 0:
+            raise ValueError(f"Executive: control_period must be > 0, got {control_period}")
+        self.tree = tree
+        self.io = io
+        self.clock = clock
+        self.period = float(control_period)
+        self.components = dict(components or {})
+        self.safety = safety if safety is not None else SafetyGate(require_laser=io.laser is not None)
+        self.recorder = recorder if recorder is not None else Recorder(None)
+        self.estimator = estimator
+        self.perceivers = list(perceivers or [])
+        self.namespace = namespace or f"/mission_{next(_mission_ids)}"
+        self.robot = LiveRobotState()
+        self.trace = Trace()
+        self.tick_count = 0
+        self.last_cmd = Twist.zero()
+        self._meta = dict(meta or {})
+        self._wall = WallClock()  # only to measure overruns, never to decide anything
+        self._events: list[dict[str, Any]] = []
+        self._failed_nodes: set[int] = set()
+        self._bb = py_trees.blackboard.Client(name=f"executive{self.namespace}",
+                                              namespace=self.namespace)
+        for key in ("goal", "goals", "cmd_vel", "path"):
+            self._bb.register_key(key, access=py_trees.common.Access.WRITE)
+        self._bb.cmd_vel = None
+        self._watcher = BlackboardWatcher(self.namespace)
+        self._guard_nodes()
+        kwargs = dict(self.components)
+        kwargs.update(clock=clock, robot=self.robot, control_period=self.period,
+                      blackboard_namespace=self.namespace)
+        self.tree.setup(**kwargs)
+        self._last_scan: LaserScan | None = None
+        self._last_odom: Odometry | None = None
+        self._started = False
+
+    # --- guarding -----------------------------------------------------------------------------
+    def _guard_nodes(self) -> None:
+        """Wrap each node's lifecycle so an exception fails that node instead of the loop."""
+        for node in self.tree.root.iterate():
+            for method in ("initialise", "update"):
+                original = getattr(node, method)
+                setattr(node, method, self._guarded(node, method, original))
+            if type(node).__name__ in RECOVERY_TYPES:
+                init = getattr(node, "initialise")
+                setattr(node, "initialise", self._noting_recovery(node, init))
+
+    def _guarded(self, node: py_trees.behaviour.Behaviour, method: str,
+                 original: Callable[[], Any]) -> Callable[[], Any]:
+        def call() -> Any:
+            if method == "update" and id(node) in self._failed_nodes:
+                self._failed_nodes.discard(id(node))
+                return Status.FAILURE
+            try:
+                return original()
+            except Exception as e:  # noqa: BLE001 - a node's bug must not kill the loop
+                self._error(node, method, e)
+                if method == "initialise":
+                    self._failed_nodes.add(id(node))
+                    return None
+                return Status.FAILURE
+        return call
+
+    def _noting_recovery(self, node: py_trees.behaviour.Behaviour,
+                         init: Callable[[], Any]) -> Callable[[], Any]:
+        def call() -> Any:
+            p = self.robot.pose()
+            event = {"recovery": node.name, "type": type(node).__name__,
+                     "t": round(self.clock.now(), 3), "pose": [round(p.x, 3), round(p.y, 3)]}
+            self._events.append(event)
+            self.trace.recoveries.append(event)
+            return init()
+        return call
+
+    def _error(self, node: Any, where: str, e: BaseException) -> None:
+        name = getattr(node, "name", str(node))
+        event = {"error": f"{type(e).__name__}: {e}", "node": name, "in": where,
+                 "t": round(self.clock.now(), 3)}
+        self._events.append(event)
+        self.trace.errors.append(event)
+
+    # --- goals --------------------------------------------------------------------------------
+    def set_goal(self, goal: Pose2D, goals: list[Pose2D] | None = None) -> None:
+        """Start a new goal: the tree restarts from scratch with ``goal`` on the blackboard."""
+        self._bb.goal = goal
+        self._bb.goals = list(goals) if goals is not None else [goal]
+        self._bb.path = None
+        if self.tree.root.status != Status.INVALID:
+            self.tree.interrupt()
+        self.trace.goals.append((goal.x, goal.y, goal.theta))
+        self._events.append({"goal": [goal.x, goal.y, goal.theta]})
+
+    def blackboard_get(self, key: str, default: Any = None) -> Any:
+        return py_trees.blackboard.Blackboard.storage.get(f"{self.namespace}/{key}", default)
+
+    # --- the cycle ----------------------------------------------------------------------------
+    def _sense(self, now: float) -> None:
+        self.io.step_to(now)
+        odom = self.io.base.odometry()
+        if odom is not None:
+            self._last_odom = odom
+        if self.io.laser is not None:
+            scan = self.io.laser.scan()
+            if scan is not None:
+                self._last_scan = scan
+
+    def _estimate(self, now: float) -> Pose2D:
+        pose = None
+        if self.estimator is not None:
+            pose = self.estimator(self._last_odom, self._last_scan, now)
+        if pose is None:
+            pose = self.io.true_pose()
+        if pose is None and self._last_odom is not None:
+            pose = self._last_odom.pose
+        pose = pose if pose is not None else self.robot.pose()
+        r = self.robot
+        r._pose = pose
+        r._velocity = self._last_odom.twist if self._last_odom is not None else Twist()
+        r._battery = self.io.base.battery()
+        r._events = self.io.base.events()
+        return pose
+
+    def step(self) -> Status:
+        """Run one full control cycle and return the root's status after the tick."""
+        if not self._started:
+            self.recorder.start(self.tree.root, dict(self._meta, namespace=self.namespace,
+                                                     period=self.period))
+            self._started = True
+        wall0 = self._wall.now()
+        now = self.clock.now()
+        pose = self.robot.pose()
+        try:
+            self._sense(now)
+            pose = self._estimate(now)
+            for perceive in self.perceivers:
+                perceive(pose, self._last_scan, now)
+        except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
+            self._error("executive", "sense", e)
+
+        self._bb.cmd_vel = None
+        tick_ok = True
+        try:
+            self.tree.tick()
+        except Exception as e:  # noqa: BLE001 - a control node's bug: stop, keep looping
+            tick_ok = False
+            self._error("tree", "tick", e)
+            try:
+                self.tree.interrupt()
+            except Exception:  # noqa: BLE001
+                pass
+        requested = self._bb.cmd_vel if isinstance(self._bb.cmd_vel, Twist) else None
+        if not tick_ok:
+            requested = None  # whatever was written before the fault is not trusted
+
+        events = self.robot.events()
+        gate = self.safety.filter(
+            requested, now,
+            scan_stamp=self._last_scan.stamp if self._last_scan is not None else None,
+            odom_stamp=self._last_odom.stamp if self._last_odom is not None else None,
+            measured=self._last_odom.twist if self._last_odom is not None else None,
+            bumper=events.bumper)
+        for f in gate.faults:
+            self.trace.faults[f] = self.trace.faults.get(f, 0) + 1
+            self._events.append({"fault": f})
+        cmd = gate.cmd
+        try:
+            self.io.base.send(cmd)
+        except Exception as e:  # noqa: BLE001
+            self._error("base", "send", e)
+        self.last_cmd = cmd
+
+        truth = self.io.true_pose()
+        drawn = truth if truth is not None else pose
+        self.trace.times.append(now)
+        self.trace.poses.append((drawn.x, drawn.y, drawn.theta))
+        if self.io.in_collision():
+            if not self.trace.contacts or now - self.trace.contacts[-1]["t"] > 1.0:
+                self._events.append({"contact": [round(drawn.x, 3), round(drawn.y, 3)]})
+            self.trace.contacts.append({"t": now, "pose": [drawn.x, drawn.y, drawn.theta]})
+
+        bb = self._watcher.changes()
+        path = bb.get("path")
+        if isinstance(path, Path) and len(path):
+            self.trace.paths.append((now, subsample_path(path.poses)))
+        elapsed = self._wall.now() - wall0
+        overrun = None
+        if elapsed > self.period:
+            overrun = 1000.0 * elapsed
+            self.trace.overruns += 1
+        self.recorder.record(self.tick_count, now, pose, cmd, bb, self._events, overrun,
+                             self.tree.root.status.name)
+        self._events = []
+        self.tick_count += 1
+        self.clock.sleep_until(now + self.period)
+        return self.tree.root.status
+
+    def stop_robot(self) -> None:
+        try:
+            self.io.base.send(Twist.zero())
+        except Exception as e:  # noqa: BLE001
+            self._error("base", "send", e)
+
+    def run(self, goals: list[Pose2D], time_limit: float = 600.0,
+            on_tick: Callable[[Executive], bool | None] | None = None) -> MissionResult:
+        """Drive to each goal in turn until the tree fails, time runs out or all succeed.
+
+        ``on_tick`` is called after every cycle (progress display, scripted events); returning
+        True stops the mission (outcome ``stopped``).
+        """
+        if not goals:
+            raise ValueError("Executive.run: no goals given")
+        t0 = self.clock.now()
+        reached = 0
+        outcome, reason = "succeeded", ""
+        for goal in goals:
+            self.set_goal(goal)
+            status = Status.RUNNING
+            while True:
+                status = self.step()
+                if on_tick is not None and on_tick(self):
+                    outcome, reason = "stopped", "stopped by caller"
+                    break
+                if status in (Status.SUCCESS, Status.FAILURE):
+                    break
+                if self.clock.now() - t0 >= time_limit:
+                    outcome, reason = "timeout", f"time limit {time_limit:g} s reached"
+                    break
+            if outcome != "succeeded":
+                break
+            if status == Status.FAILURE:
+                outcome = "failed"
+                reason = self._failure_reason()
+                break
+            reached += 1
+        if self.tree.root.status == Status.RUNNING:
+            self.tree.interrupt()
+        self.stop_robot()
+        result = MissionResult(outcome, reached, len(goals), self.clock.now() - t0,
+                               self.tick_count, self.trace.distance(),
+                               [r["recovery"] for r in self.trace.recoveries],
+                               self.collisions(), reason)
+        self.recorder.footer(result.as_dict())
+        return result
+
+    def collisions(self) -> int:
+        """Distinct contact episodes (contacts more than 1 s apart count separately)."""
+        n, last = 0, -math.inf
+        for c in self.trace.contacts:
+            if c["t"] - last > 1.0:
+                n += 1
+            last = c["t"]
+        return n
+
+    def _failure_reason(self) -> str:
+        if self.trace.errors:
+            e = self.trace.errors[-1]
+            return f"{e['node']}: {e['error']}"
+        for key in ("error_msg", "error_code_id", "follow_path_error_code",
+                    "compute_path_error_code"):
+            v = self.blackboard_get(key)
+            if v:
+                return f"{key}={v}"
+        return "tree returned FAILURE"
+
+    def shutdown(self) -> None:
+        """Stop the robot and release the tree (its behaviours' shutdown hooks)."""
+        self.stop_robot()
+        try:
+            self.tree.shutdown()
+        except Exception as e:  # noqa: BLE001
+            self._error("tree", "shutdown", e)
+        storage = py_trees.blackboard.Blackboard.storage
+        for key in [k for k in storage if k.startswith(self.namespace + "/")]:
+            del storage[key]
+
+
+def node_statuses(root: py_trees.behaviour.Behaviour) -> dict[str, str]:
+    """name -> status of every node (handy in tests)."""
+    return {n.name: n.status.name for n, _ in walk(root)}

@@ -1,0 +1,87 @@
+"""The robot config: bundled default, ROS namespaces, errors that name file/namespace/parameter."""
+
+from __future__ import annotations
+
+import pytest
+
+from executive.config import ConfigError, DEFAULT_CONFIG, config_from_mapping, load_config
+
+
+def test_default_config_loads():
+    c = load_config()
+    assert c.source == str(DEFAULT_CONFIG)
+    assert c.move_base.controller_frequency == 10.0
+    assert c.control_period() == pytest.approx(0.1)
+    assert c.local_planner_namespace() == "DWAPlannerROS"
+    assert c.global_planner_namespace() == "NavfnROS"
+    assert c.circumscribed_radius() == pytest.approx((0.25 ** 2 + 0.22 ** 2) ** 0.5)
+
+
+def test_ros_defaults_when_absent():
+    c = config_from_mapping({}, "x.yaml")
+    mb = c.move_base
+    assert (mb.controller_frequency, mb.planner_patience, mb.controller_patience) == (20.0, 5.0, 15.0)
+    assert mb.max_planning_retries == -1 and mb.oscillation_timeout == 0.0
+    assert mb.base_global_planner == "navfn/NavfnROS"
+    assert mb.base_local_planner == "base_local_planner/TrajectoryPlannerROS"
+
+
+def test_unknown_namespace_suggests():
+    with pytest.raises(ConfigError, match=r"x.yaml: unknown namespace 'move_bas' \(did you mean "
+                                          r"'move_base'\?\)"):
+        config_from_mapping({"move_bas": {}}, "x.yaml")
+
+
+def test_unknown_parameter_names_file_namespace_parameter():
+    with pytest.raises(ConfigError, match=r"r.yaml: move_base: unknown parameter "
+                                          r"'controler_frequency' \(did you mean "
+                                          r"'controller_frequency'\?\)"):
+        config_from_mapping({"move_base": {"controler_frequency": 5}}, "r.yaml")
+
+
+def test_out_of_range_and_wrong_type():
+    with pytest.raises(ConfigError, match=r"r.yaml: move_base: parameter 'controller_frequency' "
+                                          r"= -1.0 is below its minimum"):
+        config_from_mapping({"move_base": {"controller_frequency": -1}}, "r.yaml")
+    with pytest.raises(ConfigError, match=r"r.yaml: safety: parameter 'max_vel_x' must be a number"):
+        config_from_mapping({"safety": {"max_vel_x": "fast"}}, "r.yaml")
+    with pytest.raises(ConfigError, match=r"base_local_planner' = 'teb' is not one of"):
+        config_from_mapping({"move_base": {"base_local_planner": "teb"}}, "r.yaml")
+
+
+def test_footprint_checks_and_radius():
+    with pytest.raises(ConfigError, match="footprint' needs at least 3 points"):
+        config_from_mapping({"robot": {"footprint": [[0, 0], [1, 1]]}}, "r.yaml")
+    with pytest.raises(ConfigError, match=r"point 1 must be \[x, y\]"):
+        config_from_mapping({"robot": {"footprint": [[0, 0], [1], [1, 1]]}}, "r.yaml")
+    with pytest.raises(ConfigError, match="robot_radius > 0"):
+        config_from_mapping({"robot": {"footprint": []}}, "r.yaml")
+    c = config_from_mapping({"robot": {"footprint": [], "robot_radius": 0.2}}, "r.yaml")
+    assert len(c.footprint()) == 16 and c.circumscribed_radius() == pytest.approx(0.2)
+
+
+def test_devices_short_form():
+    c = config_from_mapping({"robot": {"devices": {"base": "kobuki:///dev/ttyUSB0",
+                                                   "laser": "urg04lx:///dev/ttyACM0"}}}, "r.yaml")
+    assert c.robot.devices == "hw" and c.robot.base == "kobuki:///dev/ttyUSB0"
+    with pytest.raises(ConfigError, match="unknown device 'lazer'"):
+        config_from_mapping({"robot": {"devices": {"lazer": "x"}}}, "r.yaml")
+    with pytest.raises(ConfigError, match="'devices' must be 'sim', 'hw'"):
+        config_from_mapping({"robot": {"devices": "gazebo"}}, "r.yaml")
+
+
+def test_file_errors(tmp_path):
+    with pytest.raises(ConfigError, match=r"nope.yaml: cannot read robot config"):
+        load_config(tmp_path / "nope.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("robot:\n  footprint: [1, 2\n")
+    with pytest.raises(ConfigError, match=r"bad.yaml:\d+: not valid YAML"):
+        load_config(bad)
+    lst = tmp_path / "list.yaml"
+    lst.write_text("- 1\n- 2\n")
+    with pytest.raises(ConfigError, match="must be a mapping of namespaces"):
+        load_config(lst)
+    unsafe = tmp_path / "unsafe.yaml"
+    unsafe.write_text("robot: !!python/object/apply:os.system ['true']\n")
+    with pytest.raises(ConfigError, match="not valid YAML"):
+        load_config(unsafe)

@@ -1,0 +1,263 @@
+"""The executive loop against a kinematic fake robot and hand-written behaviours (no simulator)."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+
+import py_trees
+import pytest
+from py_trees.common import Access, Status
+
+from hw.interfaces import BaseEvents
+from navcore.clock import SimClock
+from navcore.types import LaserScan, Odometry, Pose2D, Twist
+from executive.executive import Executive
+from executive.recorder import Recorder, read_log, statuses_at
+from executive.safety import SafetyGate
+
+
+class FakeBase:
+    def __init__(self, io_: "FakeIO") -> None:
+        self.io = io_
+
+    def send(self, cmd: Twist) -> None:
+        self.io.cmd = cmd
+        self.io.sent.append(cmd)
+
+    def odometry(self) -> Odometry:
+        return Odometry(self.io.t, self.io.pose, self.io.cmd)
+
+    def battery(self):
+        return None
+
+    def events(self) -> BaseEvents:
+        return BaseEvents()
+
+
+class FakeLaser:
+    mount = Pose2D()
+
+    def __init__(self, io_: "FakeIO") -> None:
+        self.io = io_
+
+    def scan(self) -> LaserScan:
+        return LaserScan(self.io.t, -1.0, 1.0, 1.0, 0.0, 0.1, 0.1, 5.0, [1.0, 1.0, 1.0])
+
+
+class FakeIO:
+    """A unicycle that integrates the last command between steps."""
+
+    def __init__(self, pose: Pose2D = Pose2D()) -> None:
+        self.t = 0.0
+        self.pose = pose
+        self.cmd = Twist()
+        self.sent: list[Twist] = []
+        self.base = FakeBase(self)
+        self.laser = FakeLaser(self)
+
+    def step_to(self, t: float) -> None:
+        dt = t - self.t
+        if dt > 0:
+            p, c = self.pose, self.cmd
+            self.pose = Pose2D(p.x + c.vx * math.cos(p.theta) * dt,
+                               p.y + c.vx * math.sin(p.theta) * dt, p.theta + c.wz * dt)
+            self.t = t
+
+    def true_pose(self) -> Pose2D:
+        return self.pose
+
+    def in_collision(self) -> bool:
+        return False
+
+
+class DriveToGoal(py_trees.behaviour.Behaviour):
+    """Turn toward the goal and drive; SUCCESS within 0.1 m."""
+
+    def setup(self, **kwargs) -> None:
+        self.robot = kwargs["robot"]
+        self.bb = self.attach_blackboard_client(namespace=kwargs["blackboard_namespace"])
+        self.bb.register_key("goal", access=Access.READ)
+        self.bb.register_key("cmd_vel", access=Access.WRITE)
+
+    def update(self) -> Status:
+        p, g = self.robot.pose(), self.bb.goal
+        if p.distance_to(g) < 0.1:
+            self.bb.cmd_vel = Twist()
+            return Status.SUCCESS
+        err = math.atan2(g.y - p.y, g.x - p.x) - p.theta
+        err = math.atan2(math.sin(err), math.cos(err))
+        self.bb.cmd_vel = Twist(0.4 if abs(err) < 0.3 else 0.0, 0.0, max(-1.0, min(1.0, 2 * err)))
+        return Status.RUNNING
+
+
+class Boom(py_trees.behaviour.Behaviour):
+    def update(self) -> Status:
+        raise RuntimeError("kaboom")
+
+
+class Spin(py_trees.behaviour.Behaviour):
+    """Named like a recovery so the executive logs it; writes a turn command for 3 ticks."""
+
+    def setup(self, **kwargs) -> None:
+        self.bb = self.attach_blackboard_client(namespace=kwargs["blackboard_namespace"])
+        self.bb.register_key("cmd_vel", access=Access.WRITE)
+
+    def initialise(self) -> None:
+        self.n = 0
+
+    def update(self) -> Status:
+        self.n += 1
+        self.bb.cmd_vel = Twist(0.0, 0.0, 0.5)
+        return Status.RUNNING if self.n < 3 else Status.SUCCESS
+
+
+def make(root, pose=Pose2D(), stream=None):
+    clock = SimClock()
+    io_ = FakeIO(pose)
+    ex = Executive(py_trees.trees.BehaviourTree(root), io_, clock, 0.1,
+                   recorder=Recorder(stream))
+    return ex, io_, clock
+
+
+def test_drives_to_goal_and_stops():
+    ex, io_, clock = make(DriveToGoal("drive"))
+    result = ex.run([Pose2D(2.0, 1.0, 0.0)], time_limit=60.0)
+    assert result.succeeded and result.goals_reached == 1
+    assert io_.pose.distance_to(Pose2D(2.0, 1.0)) < 0.15
+    assert io_.sent[-1].is_zero()
+    assert result.distance == pytest.approx(math.hypot(2, 1), abs=0.3)
+    assert 3.0 < result.sim_time < 20.0
+    assert clock.now() == pytest.approx(result.ticks * 0.1)
+
+
+def test_multiple_goals_in_turn():
+    ex, io_, _ = make(DriveToGoal("drive"))
+    result = ex.run([Pose2D(1.0, 0.0), Pose2D(1.0, 1.0), Pose2D(0.0, 0.0)], time_limit=60.0)
+    assert result.goals_reached == 3 and result.succeeded
+    assert io_.pose.distance_to(Pose2D()) < 0.15
+
+
+def test_exception_in_node_fails_that_node_and_loop_survives():
+    root = py_trees.composites.Selector("sel", memory=False,
+                                        children=[Boom("boom"), DriveToGoal("drive")])
+    ex, io_, _ = make(root)
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
+    assert result.succeeded
+    assert ex.trace.errors and ex.trace.errors[0]["node"] == "boom"
+    assert "kaboom" in ex.trace.errors[0]["error"]
+
+
+def test_only_failing_tree_stops_robot_with_reason():
+    ex, io_, _ = make(Boom("boom"))
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=5.0)
+    assert result.outcome == "failed"
+    assert "kaboom" in result.reason
+    assert all(c.is_zero() for c in io_.sent)
+
+
+def test_timeout_outcome():
+    root = py_trees.behaviours.Running("forever")
+    ex, io_, _ = make(root)
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=2.0)
+    assert result.outcome == "timeout"
+    assert result.sim_time == pytest.approx(2.0, abs=0.11)
+
+
+def test_no_command_means_zero_velocity():
+    class Silent(py_trees.behaviour.Behaviour):
+        def update(self):
+            return Status.RUNNING
+    ex, io_, _ = make(Silent("quiet"))
+    for _ in range(5):
+        ex.step()
+    assert len(io_.sent) == 5 and all(c.is_zero() for c in io_.sent)
+
+
+def test_two_executives_have_separate_blackboards():
+    a, _, _ = make(DriveToGoal("a"))
+    b, _, _ = make(DriveToGoal("b"))
+    a.set_goal(Pose2D(1.0, 0.0))
+    b.set_goal(Pose2D(-3.0, 2.0))
+    assert a.namespace != b.namespace
+    assert a.blackboard_get("goal") == Pose2D(1.0, 0.0)
+    assert b.blackboard_get("goal") == Pose2D(-3.0, 2.0)
+    a.step()
+    b.step()
+    assert a.last_cmd.wz == pytest.approx(0.0)  # straight ahead
+    assert b.last_cmd.wz > 0.5                   # turning around
+    a.shutdown()
+    assert a.blackboard_get("goal") is None and b.blackboard_get("goal") is not None
+
+
+def test_recorder_log_roundtrip_and_recoveries():
+    stream = io.StringIO()
+    root = py_trees.composites.Sequence("seq", memory=True,
+                                        children=[Spin("spin_once"), DriveToGoal("drive")])
+    ex, io_, _ = make(root, stream=stream)
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
+    assert result.succeeded and result.recoveries == ["spin_once"]
+    lines = [json.loads(s) for s in stream.getvalue().splitlines()]
+    header = lines[0]["header"]
+    assert [n[0] for n in header["nodes"]] == ["seq", "spin_once", "drive"]
+    assert [n[2] for n in header["nodes"]] == [0, 1, 1]
+    ticks = lines[1:-1]
+    assert len(ticks) == result.ticks and lines[-1]["footer"]["outcome"] == "succeeded"
+    assert ticks[0]["status"] == {"0": "RUNNING", "1": "RUNNING"}
+    assert ticks[0]["cmd"] == [0.0, 0.0, 0.5]
+    assert "goal" in ticks[0]["bb"]
+    assert any(e.get("recovery") == "spin_once" for e in ticks[0]["events"])
+    # replay: statuses after tick 3 (the spin succeeded on tick 2, drive running)
+    statuses = statuses_at(header, ticks, 3)
+    assert statuses == ["RUNNING", "SUCCESS", "RUNNING"]
+
+
+def test_read_log_errors(tmp_path):
+    p = tmp_path / "ticks.jsonl"
+    p.write_text('{"tick": 0}\n')
+    with pytest.raises(ValueError, match="no header"):
+        read_log(str(p))
+    p.write_text('{"header": {"nodes": []}}\nnot json\n')
+    with pytest.raises(ValueError, match=r"ticks.jsonl:2: not a JSON line"):
+        read_log(str(p))
+
+
+def test_safety_gate_limits_and_watchdogs():
+    gate = SafetyGate()
+    r = gate.filter(Twist(2.0, 0.0, -5.0), 1.0, scan_stamp=0.9, odom_stamp=0.95,
+                    measured=Twist(0.3, 0, 0))
+    assert r.cmd == Twist(0.55, 0.0, -1.5) and r.clipped and not r.faults
+    r = gate.filter(Twist(0.2, 0, 0), 2.0, scan_stamp=1.0, odom_stamp=1.99, measured=Twist())
+    assert r.cmd.is_zero() and r.faults == ["stale_laser"]
+    r = gate.filter(Twist(0.2, 0, 0), 2.0, scan_stamp=None, odom_stamp=None, measured=None)
+    assert r.cmd.is_zero() and set(r.faults) == {"stale_laser", "stale_odometry"}
+    r = gate.filter(Twist(float("nan"), 0, 0), 2.0, scan_stamp=2.0, odom_stamp=2.0,
+                    measured=Twist())
+    assert r.cmd.is_zero() and "non_finite_command" in r.faults
+    # bumper blocks forward motion only
+    r = gate.filter(Twist(0.2, 0, 0.3), 3.0, scan_stamp=3.0, odom_stamp=3.0,
+                    measured=Twist(0.2, 0, 0), bumper=True)
+    assert r.cmd == Twist(0.0, 0.0, 0.3) and r.faults == ["bumper"]
+    r = gate.filter(Twist(-0.1, 0, 0), 3.0, scan_stamp=3.0, odom_stamp=3.0,
+                    measured=Twist(0.2, 0, 0), bumper=True)
+    assert r.cmd == Twist(-0.1, 0, 0) and not r.faults
+
+
+def test_safety_gate_stall():
+    gate = SafetyGate()
+    t, stalled_at = 0.0, None
+    while t < 5.0:
+        r = gate.filter(Twist(0.3, 0, 0), t, scan_stamp=t, odom_stamp=t, measured=Twist())
+        if "stall" in r.faults:
+            stalled_at = t
+            assert r.cmd.is_zero()
+            break
+        assert r.cmd.vx == pytest.approx(0.3)
+        t += 0.1
+    assert stalled_at == pytest.approx(2.0, abs=0.11)
+    # motion measured: no stall however long
+    for i in range(60):
+        r = gate.filter(Twist(0.3, 0, 0), 10 + 0.1 * i, scan_stamp=10 + 0.1 * i,
+                        odom_stamp=10 + 0.1 * i, measured=Twist(0.3, 0, 0))
+        assert not r.faults
