@@ -125,6 +125,169 @@ def cast_rays(occ: np.ndarray, origin_x: float, origin_y: float, resolution: flo
 
 
 @njit(cache=True)
+def _edt_1d(f: np.ndarray, out: np.ndarray, v: np.ndarray, z: np.ndarray) -> None:
+    """Squared distance transform of one line (Felzenszwalb & Huttenlocher's lower envelope)."""
+    n = f.shape[0]
+    k = 0
+    v[0] = 0
+    z[0] = -_INF
+    z[1] = _INF
+    for q in range(1, n):
+        while True:
+            p = v[k]
+            s = ((f[q] + q * q) - (f[p] + p * p)) / (2.0 * q - 2.0 * p)
+            if s <= z[k] and k > 0:
+                k -= 1
+            else:
+                break
+        if s <= z[k]:  # k == 0 and the new parabola dominates everywhere so far
+            v[0] = q
+            z[0] = -_INF
+            z[1] = _INF
+            continue
+        k += 1
+        v[k] = q
+        z[k] = s
+        z[k + 1] = _INF
+    k = 0
+    for q in range(n):
+        while z[k + 1] < q:
+            k += 1
+        d = q - v[k]
+        out[q] = d * d + f[v[k]]
+
+
+@njit(cache=True)
+def distance_field(occ: np.ndarray) -> np.ndarray:
+    """Exact Euclidean distance (in cells, float32) from each cell centre to the nearest blocked
+    cell centre; 1e9 where the grid has no blocked cell at all. Computed once per static map, it
+    lets ``cast_ray_df`` leap through open space."""
+    h, w = occ.shape
+    big = 1e18
+    n = max(h, w)
+    f = np.empty(n, np.float64)
+    out = np.empty(n, np.float64)
+    v = np.empty(n, np.int64)
+    z = np.empty(n + 1, np.float64)
+    sq = np.empty((h, w), np.float64)
+    for c in range(w):
+        for r in range(h):
+            f[r] = 0.0 if occ[r, c] else big
+        _edt_1d(f[:h], out[:h], v, z)
+        for r in range(h):
+            sq[r, c] = out[r]
+    res = np.empty((h, w), np.float32)
+    for r in range(h):
+        for c in range(w):
+            f[c] = sq[r, c]
+        _edt_1d(f[:w], out[:w], v, z)
+        for c in range(w):
+            res[r, c] = math.sqrt(out[c]) if out[c] < big * 0.5 else 1e9
+    return res
+
+
+@njit(cache=True)
+def clearance_field(occ: np.ndarray) -> np.ndarray:
+    """uint8 grid for ``cast_ray_clear``: 0 where blocked, else the distance in whole cells from
+    the cell centre to the nearest blocked cell centre, rounded down and capped at 255. One byte a
+    cell keeps the whole field in cache, which is what limits ray casting on large maps."""
+    d = distance_field(occ)
+    h, w = occ.shape
+    out = np.empty((h, w), np.uint8)
+    for r in range(h):
+        for c in range(w):
+            if occ[r, c]:
+                out[r, c] = 0
+            else:
+                out[r, c] = np.uint8(min(max(math.floor(d[r, c]), 1.0), 255.0))
+    return out
+
+
+@njit(cache=True)
+def cast_ray_clear(clear: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+                   x: float, y: float, angle: float, max_range: float) -> float:
+    """``cast_ray`` with the same exact result, on a ``clearance_field``: where the nearest blocked
+    cell is far the ray leaps ahead by a distance that provably stays clear of every blocked cell
+    (any point of a cell is within sqrt(2)/2 of its centre, so ``clearance - 1.5`` cells are
+    safe), and walks cell by cell only near obstacles."""
+    h, w = clear.shape
+    dx = math.cos(angle)
+    dy = math.sin(angle)
+    gx = (x - origin_x) / resolution
+    gy = (y - origin_y) / resolution
+    t_end = max_range / resolution
+    t0 = 0.0
+    t1 = t_end
+    if dx == 0.0:
+        if gx < 0.0 or gx >= w:
+            return max_range
+    else:
+        ta = (0.0 - gx) / dx
+        tb = (w - gx) / dx
+        if ta > tb:
+            ta, tb = tb, ta
+        t0 = max(t0, ta)
+        t1 = min(t1, tb)
+    if dy == 0.0:
+        if gy < 0.0 or gy >= h:
+            return max_range
+    else:
+        ta = (0.0 - gy) / dy
+        tb = (h - gy) / dy
+        if ta > tb:
+            ta, tb = tb, ta
+        t0 = max(t0, ta)
+        t1 = min(t1, tb)
+    if t0 > t1 or t0 >= t_end:
+        return max_range
+    step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
+    step_y = 1 if dy > 0.0 else (-1 if dy < 0.0 else 0)
+    t_delta_x = 1.0 / abs(dx) if dx != 0.0 else _INF
+    t_delta_y = 1.0 / abs(dy) if dy != 0.0 else _INF
+    t = t0
+    while True:
+        # (re)locate the cell holding the point at parameter t and its next faces
+        cx = min(max(_axis_entry(gx + t * dx, dx), 0), w - 1)
+        cy = min(max(_axis_entry(gy + t * dy, dy), 0), h - 1)
+        t_max_x = (cx + 1 - gx) / dx if dx > 0.0 else ((cx - gx) / dx if dx < 0.0 else _INF)
+        t_max_y = (cy + 1 - gy) / dy if dy > 0.0 else ((cy - gy) / dy if dy < 0.0 else _INF)
+        while True:
+            c = clear[cy, cx]
+            if c == 0:
+                return t * resolution
+            if c >= 4:
+                break  # far from everything: leap
+            if t_max_x < t_max_y:
+                t = t_max_x
+                t_max_x += t_delta_x
+                cx += step_x
+                if cx < 0 or cx >= w:
+                    return max_range
+            else:
+                t = t_max_y
+                t_max_y += t_delta_y
+                cy += step_y
+                if cy < 0 or cy >= h:
+                    return max_range
+            if t >= t_end:
+                return max_range
+        t += c - 1.5
+        if t >= t1:
+            return max_range
+
+
+@njit(cache=True)
+def cast_rays_clear(clear: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+                    x: float, y: float, angles: np.ndarray, max_range: float) -> np.ndarray:
+    """``cast_ray_clear`` for each of ``angles`` from one point."""
+    out = np.empty(angles.shape[0], np.float64)
+    for i in range(angles.shape[0]):
+        out[i] = cast_ray_clear(clear, origin_x, origin_y, resolution, x, y, angles[i],
+                                max_range)
+    return out
+
+
+@njit(cache=True)
 def segment_blocked(occ: np.ndarray, origin_x: float, origin_y: float, resolution: float,
                     x0: float, y0: float, x1: float, y1: float) -> bool:
     """True when the segment (x0, y0)-(x1, y1) touches a blocked cell (either end included)."""

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from navcore.raycast import (cast_ray, cast_rays, cast_rays_shapes, ray_circle, ray_segment,
+from navcore.raycast import (cast_ray, cast_rays, cast_rays_clear, cast_rays_shapes,
+                             clearance_field, distance_field, ray_circle, ray_segment,
                              segment_blocked)
 
 RES = 0.05
@@ -127,3 +128,29 @@ def test_circle_and_segment_shapes():
     cast_rays_shapes(0.0, 0.0, angles, ranges, np.array([[5.0, 0.0, 1.0]]),
                      np.array([[-1.0, 2.0, 1.0, 2.0]]))
     np.testing.assert_allclose(ranges, [4.0, 2.0, 10.0])
+
+
+def test_distance_field_matches_brute_force():
+    rng = np.random.default_rng(3)
+    occ = (rng.random((30, 40)) < 0.05).astype(np.uint8)
+    d = distance_field(occ)
+    bys, bxs = np.nonzero(occ)
+    yy, xx = np.mgrid[0:30, 0:40]
+    want = np.sqrt(((yy[..., None] - bys) ** 2 + (xx[..., None] - bxs) ** 2).min(-1))
+    np.testing.assert_allclose(d, want, atol=1e-5)
+    assert distance_field(np.zeros((3, 4), np.uint8)).min() >= 1e8  # nothing blocked
+
+
+@pytest.mark.parametrize("density", [0.002, 0.02, 0.1])
+def test_clearance_leaping_gives_the_exact_same_ranges(density):
+    rng = np.random.default_rng(11)
+    occ = (rng.random((150, 200)) < density).astype(np.uint8)
+    occ[40:42, 20:180] = 1  # a long wall to graze along
+    clear = clearance_field(occ)
+    assert np.all((clear == 0) == (occ != 0))
+    angles = rng.uniform(-math.pi, math.pi, 400)
+    for _ in range(20):
+        x, y = rng.uniform(-1.0, 11.0), rng.uniform(-1.0, 8.5)  # some start off the grid
+        want = cast_rays(occ, -0.2, 0.3, RES, x, y, angles, 8.0)
+        got = cast_rays_clear(clear, -0.2, 0.3, RES, x, y, angles, 8.0)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
