@@ -12,6 +12,15 @@ import sys
 
 # name -> (module under executive.commands, one-line help)
 SUBCOMMANDS: dict[str, tuple[str, str]] = {
+    "demo": ("demo_cmd", "run the recovery tree on a bundled map with a stuck robot; write a run "
+                         "folder"),
+    "run": ("run_cmd", "run a tree to one or more goals on the simulator (or hardware)"),
+    "validate": ("validate_cmd", "load trees (YAML or BT.CPP XML) and report every error"),
+    "render": ("render_cmd", "draw a tree as text, DOT, SVG or PNG"),
+    "nodes": ("nodes_cmd", "list node types, or show one node's ports and documentation"),
+    "convert": ("convert_cmd", "convert a tree between YAML and BT.CPP XML"),
+    "replay": ("replay_cmd", "show the tree's state at any tick of a recorded run"),
+    "scenario": ("scenario_cmd", "run stuck-robot scenarios against trees"),
     "map-info": ("map_info_cmd", "load a map_server map and print its size and cell counts"),
 }
 
@@ -40,6 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("mission: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        return 0
 
 
 if __name__ == "__main__":

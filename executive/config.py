@@ -92,15 +92,21 @@ SAFETY_PARAMS: tuple[Param, ...] = (
 # ROS namespace -> (module, attribute) of the component's Param table. Resolved lazily so that the
 # executive does not import every component just to read a file, and so a component that is not
 # installed only matters when its namespace is used.
-COMPONENT_NAMESPACES: dict[str, tuple[str, str]] = {
-    "global_costmap": ("navcore.costmap.params", "COSTMAP_PARAMS"),
-    "local_costmap": ("navcore.costmap.params", "COSTMAP_PARAMS"),
-    "NavfnROS": ("navcore.planners.navfn", "PARAMS"),
-    "GlobalPlanner": ("navcore.planners.global_planner", "PARAMS"),
-    "CarrotPlanner": ("navcore.planners.carrot_planner", "PARAMS"),
-    "DWAPlannerROS": ("navcore.controllers.dwa", "PARAMS"),
-    "TrajectoryPlannerROS": ("navcore.controllers.trajectory_planner", "PARAMS"),
-    "amcl": ("navcore.localization.amcl", "PARAMS"),
+COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
+    "global_costmap": (("navcore.costmap.params", "COSTMAP_PARAMS"),
+                       ("navcore.costmap.layered", "COSTMAP_PARAMS")),
+    "local_costmap": (("navcore.costmap.params", "COSTMAP_PARAMS"),
+                      ("navcore.costmap.layered", "COSTMAP_PARAMS")),
+    "NavfnROS": (("navcore.planners.navfn", "NAVFN_PARAMS"),),
+    "GlobalPlanner": (("navcore.planners.global_planner", "GLOBAL_PLANNER_PARAMS"),
+                      ("navcore.planners.global_planner", "PARAMS")),
+    "CarrotPlanner": (("navcore.planners.carrot_planner", "CARROT_PLANNER_PARAMS"),
+                      ("navcore.planners.carrot_planner", "PARAMS")),
+    "DWAPlannerROS": (("navcore.controllers.dwa", "DWA_PARAMS"),
+                      ("navcore.controllers.dwa", "PARAMS")),
+    "TrajectoryPlannerROS": (("navcore.controllers.trajectory_planner", "TRAJECTORY_PLANNER_PARAMS"),
+                             ("navcore.controllers.trajectory_planner", "PARAMS")),
+    "amcl": (("navcore.localization.amcl_params", "AMCL_PARAMS"),),
 }
 
 OWN_NAMESPACES: dict[str, tuple[Param, ...]] = {
@@ -115,13 +121,15 @@ STRUCTURAL_KEYS = frozenset({"plugins"})
 
 def _component_specs(namespace: str) -> tuple[Param, ...] | None:
     """The Param table declared by the component behind ``namespace``, or None if unavailable."""
-    module_name, attr = COMPONENT_NAMESPACES[namespace]
-    try:
-        module = importlib.import_module(module_name)
-    except ImportError:
-        return None
-    specs = getattr(module, attr, None)
-    return tuple(specs) if specs is not None else None
+    for module_name, attr in COMPONENT_NAMESPACES[namespace]:
+        try:
+            module = importlib.import_module(module_name)
+        except ImportError:
+            continue
+        specs = getattr(module, attr, None)
+        if specs is not None:
+            return tuple(specs)
+    return None
 
 
 # Tests and other engineers can point a namespace at a table without the module layout above.

@@ -85,3 +85,13 @@ def test_file_errors(tmp_path):
     unsafe.write_text("robot: !!python/object/apply:os.system ['true']\n")
     with pytest.raises(ConfigError, match="not valid YAML"):
         load_config(unsafe)
+
+
+def test_component_namespace_checked_by_its_own_table():
+    pytest.importorskip("navcore.planners.navfn")
+    c = config_from_mapping({"NavfnROS": {"default_tolerance": 0.5}}, "r.yaml")
+    assert c.parameters["NavfnROS"].default_tolerance == 0.5
+    assert "NavfnROS" in c.all_parameters()
+    with pytest.raises(ConfigError, match=r"r.yaml: NavfnROS: unknown parameter 'alow_unknown' "
+                                          r"\(did you mean 'allow_unknown'\?\)"):
+        config_from_mapping({"NavfnROS": {"alow_unknown": True}}, "r.yaml")

@@ -1,0 +1,42 @@
+"""``mission render TREE [-f svg|png|dot|txt] [-o FILE]``: draw a tree."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from executive.commands._common import fail
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("tree", help="tree file (YAML or BT.CPP XML)")
+    p.add_argument("-f", "--format", choices=("svg", "png", "dot", "txt"), default="txt",
+                   help="output format (default txt)")
+    p.add_argument("-o", "--output", help="output file (default: stdout for txt/dot, "
+                                          "TREE.<format> for svg/png)")
+
+
+def run(args: argparse.Namespace) -> int:
+    import os
+
+    from executive.loading import TreeLoadError, load_tree_file
+    from executive.render import RenderError, render_tree
+    try:
+        tree = load_tree_file(args.tree, namespace="/render")
+        data = render_tree(tree.root, args.format)
+    except (TreeLoadError, RenderError) as e:
+        return fail("render", str(e))
+    out = args.output
+    if out is None and args.format in ("svg", "png"):
+        out = os.path.splitext(os.path.basename(args.tree))[0] + "." + args.format
+    if out is None or out == "-":
+        sys.stdout.buffer.write(data)
+        sys.stdout.flush()
+        return 0
+    try:
+        with open(out, "wb") as f:
+            f.write(data)
+    except OSError as e:
+        return fail("render", f"{out}: cannot write ({e.strerror or e})")
+    print(out)
+    return 0

@@ -1,0 +1,74 @@
+"""``mission run TREE --config ROBOT.yaml --map MAP.yaml --goal X,Y,YAW [--goal ...]``."""
+
+from __future__ import annotations
+
+import argparse
+
+from executive.commands._common import fail, parse_pose
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("tree", help="tree file (YAML or BT.CPP XML)")
+    p.add_argument("--config", help="robot config YAML (default: the bundled robot)")
+    p.add_argument("--map", required=True, help="map_server YAML")
+    p.add_argument("--goal", action="append", type=parse_pose, required=True,
+                   metavar="X,Y,YAW", help="a goal in map (repeat for several, visited in turn)")
+    p.add_argument("--start", type=parse_pose, metavar="X,Y,YAW",
+                   help="start pose in the simulator (default: the most open free cell)")
+    p.add_argument("--realtime", action="store_true", help="run at wall-clock speed")
+    p.add_argument("--record", metavar="DIR", help="write a run folder to DIR")
+    p.add_argument("--seed", type=int, default=0, help="simulator random seed (default 0)")
+    p.add_argument("--time-limit", type=float, default=600.0, help="simulated seconds (600)")
+    p.add_argument("--hw", action="store_true",
+                   help="drive the real robot of the config's robot.devices instead of the "
+                        "simulator")
+
+
+def run(args: argparse.Namespace) -> int:
+    from executive.config import ConfigError, load_config
+    from executive.loading import TreeLoadError
+    from executive.mission import WiringError, build_mission, free_start, progress_callback, \
+        run_mission
+    from executive.progress import Progress
+    from executive.recorder import Recorder
+    from navcore.maps import MapError, load_map
+    try:
+        config = load_config(args.config)
+    except ConfigError as e:
+        return fail("run", str(e))
+    if args.hw:
+        return fail("run", f"{config.source}: --hw needs robot.devices: {{base: URL, laser: URL}} "
+                           "and the hardware drivers; this build runs the simulator only")
+    try:
+        grid = load_map(args.map)
+    except MapError as e:
+        return fail("run", str(e))
+    for i, g in enumerate(args.goal):
+        if grid.world_to_map(g.x, g.y) is None:
+            return fail("run", f"--goal {g.x:g},{g.y:g}: outside the map {args.map}")
+    start = args.start or free_start(grid)
+    log = None
+    if args.record:
+        from executive.run_folder import open_log
+        log = open_log(args.record)
+    try:
+        mission = build_mission(args.tree, config, grid, start, seed=args.seed,
+                                realtime=args.realtime, recorder=Recorder(log))
+    except (TreeLoadError, WiringError) as e:
+        return fail("run", str(e))
+    progress = Progress()
+    result = run_mission(mission, list(args.goal), args.time_limit,
+                         on_tick=progress_callback(progress, args.time_limit))
+    progress.done()
+    if log is not None:
+        log.close()
+        from executive.run_folder import finish
+        finish(args.record, mission.executive, result, grid, config.footprint(),
+               extra={"tree": args.tree, "map": args.map})
+    rec = ", ".join(result.recoveries) or "none"
+    print(f"{result.outcome}: {result.goals_reached}/{result.goals_total} goals in "
+          f"{result.sim_time:.1f} s, {result.distance:.1f} m, recoveries: {rec}, "
+          f"collisions: {result.collisions}" + (f" ({result.reason})" if result.reason else ""))
+    if args.record:
+        print(args.record)
+    return 0 if result.succeeded else 1

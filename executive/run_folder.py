@@ -1,0 +1,73 @@
+"""The run folder: ``tree.svg``, ``ticks.jsonl``, ``run.png`` and ``summary.json``.
+
+``ticks.jsonl`` is streamed by the Recorder while the mission runs (``open_log``); the rest is
+written once at the end (``finish``) from the Executive's in-memory trace.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path as FsPath
+from typing import Any, Sequence, TextIO
+
+from navcore.maps import OccupancyGrid
+
+from executive.draw_run import draw_run
+from executive.executive import Executive, MissionResult
+from executive.render import RenderError, render_tree
+
+
+def open_log(run_dir: str | os.PathLike) -> TextIO:
+    """Create the folder and open its ``ticks.jsonl`` for the Recorder."""
+    d = FsPath(run_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    return open(d / "ticks.jsonl", "w", encoding="utf-8")
+
+
+def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
+           grid: OccupancyGrid, footprint: Sequence[Sequence[float]],
+           extra: dict[str, Any] | None = None,
+           obstacles: Sequence[Sequence[Sequence[float]]] = ()) -> dict[str, Any]:
+    """Write tree.svg, run.png and summary.json; returns the summary."""
+    d = FsPath(run_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    summary = result.as_dict()
+    summary["recovery_events"] = ex.trace.recoveries
+    summary["faults"] = ex.trace.faults
+    summary["errors"] = ex.trace.errors
+    summary["overruns"] = ex.trace.overruns
+    summary["goals"] = [list(g) for g in ex.trace.goals]
+    summary.update(extra or {})
+    try:
+        (d / "tree.svg").write_bytes(render_tree(ex.tree.root, "svg", with_status=True))
+    except RenderError as e:
+        summary["tree_svg_error"] = str(e)
+    t = ex.trace
+    contacts = [c["pose"] for c in t.contacts]
+    # one footprint per contact episode is enough to see where it happened
+    episodes, last = [], -1e9
+    for c, pose in zip(t.contacts, contacts):
+        if c["t"] - last > 1.0:
+            episodes.append(pose)
+        last = c["t"]
+    paths = _distinct_paths(t.paths)
+    title = f"{summary.get('name', '')} {result.outcome} in {result.sim_time:.1f} s".strip()
+    draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
+             str(d / "run.png"), obstacles=obstacles, title=title)
+    (d / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    return summary
+
+
+def _distinct_paths(paths: list[tuple[float, list[list[float]]]], limit: int = 30
+                    ) -> list[list[list[float]]]:
+    """Drop consecutive near-identical replans and keep at most ``limit`` (evenly chosen)."""
+    out: list[list[list[float]]] = []
+    for _, p in paths:
+        if out and len(out[-1]) == len(p) and out[-1][-1] == p[-1] and out[-1][0] == p[0]:
+            continue
+        out.append(p)
+    if len(out) > limit:
+        step = len(out) / limit
+        out = [out[int(i * step)] for i in range(limit)] + [out[-1]]
+    return out
