@@ -64,7 +64,7 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
     if c1 <= c0 or r1 <= r0:
         c0, c1, r0, r1 = 0, grid.width, 0, grid.height
     sub = OccupancyGrid(grid.data[r0:r1, c0:c1], res)
-    scale = max(1.0, min(8.0, MAX_SIDE_PX / max(sub.width, sub.height)))
+    scale = max(1.0, min(40.0, MAX_SIDE_PX / max(sub.width, sub.height)))
     img = Image.fromarray(_map_rgb(sub), "RGB")
     img = img.resize((int(sub.width * scale), int(sub.height * scale)), Image.NEAREST)
     h = img.height

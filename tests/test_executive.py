@@ -261,3 +261,35 @@ def test_safety_gate_stall():
         r = gate.filter(Twist(0.3, 0, 0), 10 + 0.1 * i, scan_stamp=10 + 0.1 * i,
                         odom_stamp=10 + 0.1 * i, measured=Twist(0.3, 0, 0))
         assert not r.faults
+
+
+def test_run_folder_files(tmp_path):
+    from PIL import Image
+
+    from navcore.synthetic_maps import ascii_map
+    from executive.run_folder import finish, open_log
+    grid = ascii_map("#########\n#.......#\n#.......#\n#.......#\n#########\n", resolution=0.5)
+    log = open_log(tmp_path / "run")
+    root = py_trees.composites.Sequence("seq", memory=True,
+                                        children=[Spin("spin"), DriveToGoal("drive")])
+    clock = SimClock()
+    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D(1.0, 1.0)), clock, 0.1,
+                   recorder=Recorder(log))
+    result = ex.run([Pose2D(3.0, 1.5)], time_limit=30)
+    log.close()
+    ex.trace.contacts.append({"t": 1.0, "pose": [2.0, 1.2, 0.0]})
+    summary = finish(tmp_path / "run", ex, result, grid, [(0.2, 0.2), (0.2, -0.2), (-0.2, -0.2),
+                                                           (-0.2, 0.2)])
+    files = sorted(p.name for p in (tmp_path / "run").iterdir())
+    assert files == ["run.png", "summary.json", "ticks.jsonl", "tree.svg"]
+    saved = json.loads((tmp_path / "run" / "summary.json").read_text())
+    assert saved["outcome"] == "succeeded" and saved["recoveries"] == ["spin"]
+    assert saved["recovery_events"][0]["type"] == "Spin"
+    assert saved == summary
+    img = Image.open(tmp_path / "run" / "run.png")
+    assert img.mode == "RGB" and max(img.size) >= 200
+    px = img.load()
+    colours = {px[x, y] for x in range(0, img.width, 2) for y in range(0, img.height, 2)}
+    assert (20, 150, 40) in colours      # trajectory drawn
+    assert (230, 120, 0) in colours      # recovery marker
+    assert b"<svg" in (tmp_path / "run" / "tree.svg").read_bytes()

@@ -1,0 +1,209 @@
+"""The ``mission`` CLI: every subcommand's help, its output, and its one-line errors."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+
+import py_trees
+import pytest
+
+from executive.cli import SUBCOMMANDS, main
+from navcore.clock import SimClock
+from navcore.types import Pose2D
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def run_cli(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("name", sorted(SUBCOMMANDS))
+def test_every_subcommand_has_help(name, capsys):
+    with pytest.raises(SystemExit) as e:
+        main([name, "--help"])
+    assert e.value.code == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"usage: mission {name}")
+
+
+def test_no_command_prints_help(capsys):
+    code, out, _ = run_cli(capsys)
+    assert code == 2 and "demo" in out and "scenario" in out
+
+
+def test_help_does_not_import_heavy_modules():
+    code = ("import sys, executive.cli as c; c.build_parser(); "
+            "heavy = [m for m in ('numpy', 'numba', 'py_trees', 'PIL') if m in sys.modules]; "
+            "print(','.join(heavy))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == ""
+
+
+# ------------------------------------------------------------------ replay
+def _record_run(tmp_path) -> str:
+    from tests.test_executive import DriveToGoal, FakeIO, Spin
+    from executive.executive import Executive
+    from executive.recorder import Recorder
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    with open(run_dir / "ticks.jsonl", "w") as f:
+        root = py_trees.composites.Sequence("seq", memory=True,
+                                            children=[Spin("spin"), DriveToGoal("drive")])
+        ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(), SimClock(), 0.1,
+                       recorder=Recorder(f))
+        result = ex.run([Pose2D(1.0, 0.0)], time_limit=30)
+    assert result.succeeded
+    return str(run_dir)
+
+
+def test_replay_shows_state_at_tick(tmp_path, capsys):
+    run_dir = _record_run(tmp_path)
+    code, out, err = run_cli(capsys, "replay", run_dir, "--tick", "1")
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0].startswith("tick 1/") and "root=RUNNING" in lines[0]
+    assert "seq" in lines[1] and "RUNNING" in lines[1]
+    assert "spin" in lines[2] and "RUNNING" in lines[2]
+    assert "drive" in lines[3] and "[-]" in lines[3]
+    code, out, _ = run_cli(capsys, "replay", run_dir)
+    assert code == 0 and "outcome: succeeded" in out
+    assert "drive" in out and "SUCCESS" in out
+
+
+def test_replay_errors(tmp_path, capsys):
+    code, _, err = run_cli(capsys, "replay", str(tmp_path / "missing"))
+    assert code == 1 and err.startswith("mission replay: ") and "no such tick log" in err
+    run_dir = _record_run(tmp_path)
+    code, _, err = run_cli(capsys, "replay", run_dir, "--tick", "99999")
+    assert code == 1 and "out of range" in err and len(err.strip().splitlines()) == 1
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text('{"header": {"nodes": []}}\n{oops\n')
+    code, _, err = run_cli(capsys, "replay", str(bad))
+    assert code == 1 and "bad.jsonl:2: not a JSON line" in err
+
+
+# ------------------------------------------------------------------ scenario (no run)
+def test_scenario_check_and_broken_scenario(tmp_path, capsys):
+    good = tmp_path / "good.yaml"
+    good.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #######\n    #S...G#\n    #######\n")
+    code, out, err = run_cli(capsys, "scenario", "check", str(good))
+    assert code == 0, err
+    assert "good.yaml: ok (good, 1 goal(s))" in out
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #####\n    #S..#\n    #####\n"
+                   "expect: {outcom: failed}\n")
+    code, _, err = run_cli(capsys, "scenario", "check", str(bad))
+    assert code == 1
+    assert err.strip() == (f"mission scenario: {bad}: goals: not given, and the map has 0 'G' "
+                           "markers (need exactly one)")
+    bad.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #####\n    #S.G#\n    #####\n"
+                   "expect: {outcom: failed}\n")
+    code, _, err = run_cli(capsys, "scenario", "run", str(bad))
+    assert code == 1 and "expect: unknown key 'outcom' (did you mean 'outcome'?)" in err
+    code, _, err = run_cli(capsys, "scenario", "run", str(tmp_path / "empty_dir_none"))
+    assert code == 1 and "cannot read scenario" in err
+
+
+# ------------------------------------------------------------------ run: errors before moving
+def test_run_broken_map_and_config(tmp_path, capsys):
+    bad_map = tmp_path / "m.yaml"
+    bad_map.write_text("image: nothere.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n")
+    code, _, err = run_cli(capsys, "run", "trees/x.yaml", "--map", str(bad_map),
+                           "--goal", "1,1,0")
+    assert code == 1 and err.startswith("mission run: ") and "m.yaml" in err
+    assert len(err.strip().splitlines()) == 1
+    cfg = tmp_path / "robot.yaml"
+    cfg.write_text("move_base: {controller_frequency: 0}\n")
+    code, _, err = run_cli(capsys, "run", "trees/x.yaml", "--config", str(cfg),
+                           "--map", str(bad_map), "--goal", "1,1,0")
+    assert code == 1
+    assert err.strip() == (f"mission run: {cfg}: move_base: parameter 'controller_frequency' = "
+                           "0.0 is below its minimum 0.1")
+
+
+def test_run_bad_goal_syntax(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["run", "t.yaml", "--map", "m.yaml", "--goal", "1,x"])
+    assert e.value.code == 2
+    assert "is not X,Y[,YAW]" in capsys.readouterr().err
+
+
+def test_map_info_bundled(capsys):
+    code, out, _ = run_cli(capsys, "map-info", os.path.join(ROOT, "executive", "data", "maps",
+                                                             "office.yaml"))
+    assert code == 0 and "cells at 0.05 m" in out
+
+
+# ------------------------------------------------------------------ tree commands
+def _loader_available() -> bool:
+    try:
+        import executive.tree_loader  # noqa: F401
+        return hasattr(executive.tree_loader, "load_tree")
+    except ImportError:
+        return False
+
+
+needs_loader = pytest.mark.skipif(not _loader_available(),
+                                  reason="executive.tree_loader not available yet")
+
+
+@needs_loader
+def test_validate_render_broken_tree(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("main_tree: T\ntrees:\n  T:\n    RateControler: {hz: 1.0, child: {Wait: {}}}\n")
+    code, _, err = run_cli(capsys, "validate", str(bad))
+    assert code == 1 and err.startswith("mission validate: ") and "bad.yaml" in err
+    assert "RateControler" in err
+    code, _, err = run_cli(capsys, "render", str(bad))
+    assert code == 1 and err.startswith("mission render: ") and "bad.yaml" in err
+    code, _, err = run_cli(capsys, "validate", str(tmp_path / "none.yaml"))
+    assert code == 1 and "none.yaml: no such tree file" in err
+
+
+@needs_loader
+def test_validate_render_convert_shipped_trees(tmp_path, capsys):
+    trees_dir = os.path.join(ROOT, "trees")
+    files = sorted(os.path.join(trees_dir, f) for f in os.listdir(trees_dir)
+                   if f.endswith(".yaml"))
+    if not files:
+        pytest.skip("no shipped trees yet")
+    code, out, err = run_cli(capsys, "validate", *files)
+    assert code == 0, err
+    assert out.count(": ok (") == len(files)
+    code, out, _ = run_cli(capsys, "render", files[0], "-f", "txt")
+    assert code == 0 and len(out.splitlines()) > 3
+    code, out, _ = run_cli(capsys, "render", files[0], "-f", "dot")
+    assert code == 0 and out.startswith("digraph")
+    svg = tmp_path / "t.svg"
+    code, _, err = run_cli(capsys, "render", files[0], "-f", "svg", "-o", str(svg))
+    assert code == 0, err
+    assert svg.read_bytes().lstrip().startswith(b"<?xml") and b"<svg" in svg.read_bytes()
+    png = tmp_path / "t.png"
+    code, _, err = run_cli(capsys, "render", files[0], "-f", "png", "-o", str(png))
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    xml = tmp_path / "t.xml"
+    code, _, err = run_cli(capsys, "convert", files[0], "-o", str(xml))
+    assert code == 0, err
+    assert "<root" in xml.read_text()
+    code, out, err = run_cli(capsys, "validate", str(xml))
+    assert code == 0, err
+
+
+@needs_loader
+def test_nodes_listing_and_detail(capsys):
+    code, out, _ = run_cli(capsys, "nodes")
+    assert code == 0 and "RecoveryNode" in out
+    code, out, _ = run_cli(capsys, "nodes", "RecoveryNode")
+    assert code == 0 and "number_of_retries" in out
+    code, _, err = run_cli(capsys, "nodes", "RecoveryNod")
+    assert code == 1 and "did you mean 'RecoveryNode'" in err
