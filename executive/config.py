@@ -34,15 +34,9 @@ ROBOT_PARAMS: tuple[Param, ...] = (
           "robot_radius"),
     Param("robot_radius", 0.0, float, "circular robot radius (m), used when footprint is []",
           min=0.0, max=5.0),
-    Param("kinematics", "diff", str, "drive type of the simulated base", choices=("diff", "omni")),
     Param("devices", "sim", str, "'sim' for the simulator (real devices: see 'base'/'laser' URLs)"),
     Param("base", "", str, "pyserial URL of the base driver (with devices: hw)"),
     Param("laser", "", str, "pyserial URL of the laser driver (with devices: hw)"),
-    Param("laser_mount", [0.0, 0.0, 0.0], list, "laser pose in base_link [x, y, yaw]"),
-    Param("laser_range_max", 5.6, float, "simulated laser range (m)", min=0.1, max=100.0),
-    Param("laser_fov", 4.18879, float, "simulated laser field of view (rad)", min=0.1,
-          max=2 * math.pi),
-    Param("laser_beams", 181, int, "simulated laser beam count", min=3, max=4000),
 )
 
 MOVE_BASE_PARAMS: tuple[Param, ...] = (
@@ -108,6 +102,11 @@ COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
                              ("navcore.controllers.trajectory_planner", "PARAMS")),
     "amcl": (("navcore.localization.amcl_params", "AMCL_PARAMS"),),
 }
+
+# The simulated body (kinematics, limits, odometry noise, laser/imu/battery sections) is declared
+# by the simulator itself (hw/sim/config.py) and validated by its ``robot_config``; the footprint
+# defaults to robot.footprint.
+SIM_NAMESPACE = "sim"
 
 OWN_NAMESPACES: dict[str, tuple[Param, ...]] = {
     "robot": ROBOT_PARAMS,
@@ -215,7 +214,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
     if not isinstance(doc, Mapping):
         raise ConfigError(f"{source}: the robot config must be a mapping of namespaces, "
                           f"got {type(doc).__name__}")
-    known = set(OWN_NAMESPACES) | set(COMPONENT_NAMESPACES)
+    known = set(OWN_NAMESPACES) | set(COMPONENT_NAMESPACES) | {SIM_NAMESPACE}
     values: dict[str, Parameters] = {}
     raw: dict[str, dict[str, Any]] = {}
     for ns, body in doc.items():
@@ -236,6 +235,8 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
                                       f"{suggest(str(k), ('base', 'laser'))}")
                 body[k] = v
         raw[ns] = body
+        if ns == SIM_NAMESPACE:
+            continue  # checked below, once the footprint is known
         specs = specs_for(ns)
         if specs is None:
             continue  # component not installed: its own constructor validates when built
@@ -252,6 +253,21 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
     if values["robot"].devices not in ("sim", "hw"):
         raise ConfigError(f"{source}: robot: parameter 'devices' must be 'sim', 'hw' or a mapping "
                           f"{{base: URL, laser: URL}}, got {values['robot'].devices!r}")
+    raw.setdefault(SIM_NAMESPACE, {})
+    sim_values = dict(raw[SIM_NAMESPACE])
+    sim_values.setdefault("footprint", values["robot"].footprint)
+    if not values["robot"].footprint:
+        sim_values.setdefault("robot_radius", values["robot"].robot_radius)
+    raw[SIM_NAMESPACE] = sim_values
+    try:
+        from hw.sim.config import robot_config
+    except ImportError:
+        robot_config = None
+    if robot_config is not None:
+        try:
+            robot_config(sim_values)
+        except (ParameterError, ValueError) as e:
+            raise ConfigError(f"{source}: {e}") from None
     component_params = {ns: p for ns, p in values.items() if ns not in OWN_NAMESPACES}
     return RobotConfig(source, values["robot"], values["move_base"], values["safety"], raw,
                        component_params)

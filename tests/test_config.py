@@ -95,3 +95,13 @@ def test_component_namespace_checked_by_its_own_table():
     with pytest.raises(ConfigError, match=r"r.yaml: NavfnROS: unknown parameter 'alow_unknown' "
                                           r"\(did you mean 'allow_unknown'\?\)"):
         config_from_mapping({"NavfnROS": {"alow_unknown": True}}, "r.yaml")
+
+
+def test_sim_namespace_checked_by_simulator():
+    pytest.importorskip("hw.sim.config")
+    c = load_config()
+    assert c.ns("sim")["footprint"] == c.robot.footprint
+    with pytest.raises(ConfigError, match=r"r.yaml: sim: unknown parameter 'max_vel_xx'"):
+        config_from_mapping({"sim": {"max_vel_xx": 1.0}}, "r.yaml")
+    with pytest.raises(ConfigError, match=r"r.yaml: sim.laser: unknown parameter 'beam'"):
+        config_from_mapping({"sim": {"laser": {"beam": 10}}}, "r.yaml")
