@@ -1,0 +1,6 @@
+"""Localisation: AMCL (particle filter on a map) and EKF odometry/IMU fusion."""
+
+from navcore.localization.amcl import Amcl
+from navcore.localization.amcl_params import AMCL_PARAMS
+
+__all__ = ["Amcl", "AMCL_PARAMS"]

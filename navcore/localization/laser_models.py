@@ -1,0 +1,139 @@
+"""amcl's likelihood-field laser models as numba kernels over all particles at once.
+
+Each kernel multiplies ``weights`` in place by the scan's likelihood at every particle and returns
+the new total weight, like ``pf_update_sensor``'s model callback. Beams arrive already subsampled
+and in the *laser* frame (range, bearing); the laser mount (x, y, theta in base_link) is composed
+into each particle pose. ``grid`` holds the map geometry: origin x, y, cos and sin of the origin
+yaw, and resolution.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def _cell(wx: float, wy: float, grid: np.ndarray, h: int, w: int) -> tuple[int, int]:
+    """Cell (mx, my) of a world point, or (-1, -1) when it is off the map."""
+    dx = wx - grid[0]
+    dy = wy - grid[1]
+    lx = grid[2] * dx + grid[3] * dy
+    ly = -grid[3] * dx + grid[2] * dy
+    if lx < 0.0 or ly < 0.0:
+        return -1, -1
+    mx = int(lx / grid[4])
+    my = int(ly / grid[4])
+    if mx >= w or my >= h:
+        return -1, -1
+    return mx, my
+
+
+@njit(cache=True)
+def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
+                     bearings: np.ndarray, mount: np.ndarray, dist: np.ndarray,
+                     grid: np.ndarray, max_occ_dist: float, z_hit: float, z_rand: float,
+                     sigma_hit: float, range_max: float) -> float:
+    """amcl ``LikelihoodFieldModel``: p = 1 + sum(pz^3), pz = z_hit exp(-d^2/2s^2) + z_rand/rmax.
+
+    Beams at or beyond range_max (and NaN) carry no information and are skipped.
+    """
+    h, w = dist.shape
+    n = particles.shape[0]
+    nb = ranges.shape[0]
+    z_hit_denom = 2.0 * sigma_hit * sigma_hit
+    z_rand_mult = z_rand / range_max
+    total = 0.0
+    for i in range(n):
+        px = particles[i, 0]
+        py = particles[i, 1]
+        pt = particles[i, 2]
+        c = math.cos(pt)
+        s = math.sin(pt)
+        lx = px + c * mount[0] - s * mount[1]
+        ly = py + s * mount[0] + c * mount[1]
+        lt = pt + mount[2]
+        p = 1.0
+        for j in range(nb):
+            r = ranges[j]
+            if not (r < range_max):
+                continue
+            a = lt + bearings[j]
+            mx, my = _cell(lx + r * math.cos(a), ly + r * math.sin(a), grid, h, w)
+            z = max_occ_dist if mx < 0 else dist[my, mx]
+            pz = z_hit * math.exp(-(z * z) / z_hit_denom) + z_rand_mult
+            p += pz * pz * pz
+        weights[i] *= p
+        total += weights[i]
+    return total
+
+
+@njit(cache=True)
+def likelihood_field_prob(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
+                          bearings: np.ndarray, mount: np.ndarray, dist: np.ndarray,
+                          grid: np.ndarray, max_occ_dist: float, z_hit: float, z_rand: float,
+                          sigma_hit: float, range_max: float, do_beamskip: bool,
+                          beam_skip_distance: float, beam_skip_threshold: float,
+                          beam_skip_error_threshold: float) -> float:
+    """amcl ``LikelihoodFieldModelProb``: w *= exp(sum log pz), with optional beam skipping.
+
+    Beam skipping (only when asked, i.e. once the filter has converged): a beam is used only when
+    more than ``beam_skip_threshold`` of the particles see its end point within
+    ``beam_skip_distance`` of an obstacle; if too many beams would be skipped, all are used.
+    """
+    h, w = dist.shape
+    n = particles.shape[0]
+    nb = ranges.shape[0]
+    z_hit_denom = 2.0 * sigma_hit * sigma_hit
+    z_rand_mult = z_rand / range_max
+    max_dist_prob = math.exp(-(max_occ_dist * max_occ_dist) / z_hit_denom)
+    zs = np.empty((n, nb), np.float64)  # distance per particle and beam; -1 = off map, -2 = skip
+    for i in range(n):
+        pt = particles[i, 2]
+        c = math.cos(pt)
+        s = math.sin(pt)
+        lx = particles[i, 0] + c * mount[0] - s * mount[1]
+        ly = particles[i, 1] + s * mount[0] + c * mount[1]
+        lt = pt + mount[2]
+        for j in range(nb):
+            r = ranges[j]
+            if not (r < range_max):
+                zs[i, j] = -2.0
+                continue
+            a = lt + bearings[j]
+            mx, my = _cell(lx + r * math.cos(a), ly + r * math.sin(a), grid, h, w)
+            zs[i, j] = -1.0 if mx < 0 else dist[my, mx]
+    use = np.ones(nb, np.bool_)
+    if do_beamskip:
+        valid = 0
+        skipped = 0
+        for j in range(nb):
+            if zs[0, j] == -2.0:
+                continue
+            valid += 1
+            agree = 0
+            for i in range(n):
+                if zs[i, j] >= 0.0 and zs[i, j] < beam_skip_distance:
+                    agree += 1
+            if agree / n <= beam_skip_threshold:
+                use[j] = False
+                skipped += 1
+        if skipped >= valid * beam_skip_error_threshold:
+            use[:] = True  # most beams disagree: the filter may be wrong, trust the scan
+    total = 0.0
+    for i in range(n):
+        log_p = 0.0
+        for j in range(nb):
+            z = zs[i, j]
+            if z == -2.0 or not use[j]:
+                continue
+            if z < 0.0:
+                pz = z_hit * max_dist_prob
+            else:
+                pz = z_hit * math.exp(-(z * z) / z_hit_denom)
+            log_p += math.log(pz + z_rand_mult)
+        weights[i] *= math.exp(log_p)
+        total += weights[i]
+    return total
