@@ -55,13 +55,15 @@ def _costmaps(config: RobotConfig, grid: OccupancyGrid) -> tuple[Any, Any]:
 def _planner(config: RobotConfig, global_cm: Any) -> Any:
     from navcore.planners import make_planner
     ns = config.global_planner_namespace()
-    return make_planner(ns, global_cm.costmap, config.ns(ns), global_cm.footprint_cost)
+    return make_planner(config.move_base.base_global_planner, global_cm.costmap, config.ns(ns),
+                        global_cm.footprint_cost)
 
 
 def _controller(config: RobotConfig, local_cm: Any) -> Any:
     from navcore.controllers import make_controller
     ns = config.local_planner_namespace()
-    return make_controller(ns, local_cm, config.footprint(), config.ns(ns))
+    return make_controller(config.move_base.base_local_planner, local_cm.costmap,
+                           np.asarray(config.footprint(), np.float64), config.ns(ns))
 
 
 def _simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: World,

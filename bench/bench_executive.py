@@ -1,0 +1,101 @@
+"""Executive figures: tree + loop overhead with no-op components, and one full control cycle
+with real components in the simulator.
+
+    python bench/bench_executive.py [--json]
+
+``tick_overhead_us``: mean wall time of one Executive.step (sense, tick, gate, record) over the
+shipped trees with every component replaced by a no-op (executive/noop.py), i.e. what the tree
+and the executive cost on top of the algorithms. ``cycle_ms``: mean Executive.step with the real
+costmaps, planner, controller and simulator on the bundled demo scenario.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(HERE))
+
+
+def tree_overhead(tree_path: str, steps: int = 2000) -> float:
+    """Mean microseconds per Executive.step for one tree with no-op components."""
+    from navcore.clock import SimClock
+    from navcore.types import Pose2D
+    from executive.executive import Executive, _mission_ids
+    from executive.loading import load_tree_file
+    from executive.noop import KinematicRobot, noop_components
+    ns = f"/bench_{next(_mission_ids)}"
+    tree = load_tree_file(tree_path, namespace=ns)
+    robot = KinematicRobot()
+    ex = Executive(tree, robot, SimClock(), 0.05, noop_components(), namespace=ns)
+    goals = [Pose2D(3.0, 0.0), Pose2D(0.0, 0.0)]
+    ex.set_goal(goals[0])
+    for _ in range(50):  # warm up
+        ex.step()
+    k = 0
+    t0 = time.perf_counter()
+    for i in range(steps):
+        status = ex.step()
+        if status.name in ("SUCCESS", "FAILURE"):
+            k += 1
+            ex.set_goal(goals[k % 2])
+    dt = time.perf_counter() - t0
+    ex.shutdown()
+    return 1e6 * dt / steps
+
+
+def real_cycle(steps: int = 300) -> float:
+    """Mean milliseconds per full control cycle on the demo scenario (real components)."""
+    from executive.loading import shipped_tree
+    from executive.mission import World, build_mission
+    from executive.scenario import load_scenario, scenario_config
+    s = load_scenario(os.path.join(os.path.dirname(HERE), "executive", "data", "demo.yaml"))
+    config = scenario_config(s)
+    world = World(s.objects, s.moving, s.phantoms, s.faults)
+    m = build_mission(shipped_tree("smach_recovery"), config, s.grid, s.start, world=world)
+    ex = m.executive
+    ex.set_goal(s.goals[0])
+    for _ in range(20):  # compile and warm up
+        ex.step()
+    t0 = time.perf_counter()
+    n = 0
+    for _ in range(steps):
+        status = ex.step()
+        n += 1
+        if status.name in ("SUCCESS", "FAILURE"):
+            break
+    dt = time.perf_counter() - t0
+    ex.shutdown()
+    return 1e3 * dt / n
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true")
+    args = ap.parse_args()
+    trees_dir = os.path.join(os.path.dirname(HERE), "trees")
+    files = sorted(f for f in os.listdir(trees_dir) if f.endswith(".yaml"))
+    figures: dict[str, float] = {}
+    per_tree = []
+    for f in files:
+        us = tree_overhead(os.path.join(trees_dir, f))
+        per_tree.append(us)
+        name = os.path.splitext(f)[0]
+        figures[f"tick_overhead_{name}_us"] = round(us, 1)
+        print(f"{f:32s} tick overhead {us:8.1f} us (no-op components)")
+    if per_tree:
+        figures["tick_overhead_us"] = round(sum(per_tree) / len(per_tree), 1)
+        print(f"{'mean':32s} tick overhead {figures['tick_overhead_us']:8.1f} us")
+    ms = real_cycle()
+    figures["cycle_ms"] = round(ms, 3)
+    print(f"full control cycle (demo scenario, real components): {ms:.3f} ms")
+    if args.json:
+        print(json.dumps(figures))
+
+
+if __name__ == "__main__":
+    main()
