@@ -31,40 +31,38 @@ def _error_types() -> tuple[type[BaseException], ...]:
     return tuple(types)
 
 
-def load_tree_file(path: str | os.PathLike, namespace: str = "/mission") -> py_trees.trees.BehaviourTree:
+def load_tree_file(path: str | os.PathLike, namespace: str = "/mission"
+                   ) -> py_trees.trees.BehaviourTree:
     """Load a YAML or BT.CPP XML tree with its blackboard keys under ``namespace``."""
     path = str(path)
     if not os.path.exists(path):
         raise TreeLoadError(f"{path}: no such tree file")
     mod = _loader()
     try:
-        tree = mod.load_tree(path, namespace=namespace)
+        loaded = mod.load_any(path, namespace=namespace)
     except _error_types() as e:
         raise TreeLoadError(str(e)) from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise TreeLoadError(f"{path}: cannot read tree ({e})") from None
+    tree = loaded.tree if hasattr(loaded, "tree") else loaded
     if isinstance(tree, py_trees.behaviour.Behaviour):
         tree = py_trees.trees.BehaviourTree(tree)
-    root = getattr(tree, "root", None)
-    if not isinstance(tree, py_trees.trees.BehaviourTree) and root is not None:
-        tree = py_trees.trees.BehaviourTree(root)
     return tree
 
 
 def convert_tree_file(src: str, dst_format: str) -> str:
-    """The text of ``src`` converted to ``yaml`` or ``xml`` (BT.CPP v4)."""
+    """The text of ``src`` converted to ``xml`` (BT.CPP v4) or ``yaml``."""
     mod = _loader()
     if not os.path.exists(src):
         raise TreeLoadError(f"{src}: no such tree file")
-    fn = getattr(mod, "to_xml" if dst_format == "xml" else "to_yaml", None)
-    if fn is None:
-        fn = getattr(mod, "convert", None)
-        if fn is None:
-            raise TreeLoadError(f"the tree loader cannot convert to {dst_format}")
-        try:
-            return fn(src, dst_format)
-        except _error_types() as e:
-            raise TreeLoadError(str(e)) from None
     try:
-        return fn(src)
+        loaded = mod.load_any(src, namespace="/convert")
+        if dst_format == "xml":
+            return mod.to_xml(loaded)
+        to_yaml = getattr(mod, "to_yaml", None)
+        if to_yaml is None:
+            raise TreeLoadError(f"{src}: conversion to YAML is not supported by the tree loader")
+        return to_yaml(loaded)
     except _error_types() as e:
         raise TreeLoadError(str(e)) from None
 
