@@ -1,0 +1,126 @@
+"""Velocity sampling and forward simulation (base_local_planner's SimpleTrajectoryGenerator).
+
+Samples are rows (vx, vy, vth). A trajectory is a run of poses from explicit Euler integration in
+the world frame, starting at the robot pose; the final integrated pose is not kept. With
+``ramped`` the velocity moves toward the sample under the acceleration limits every step (the
+trajectory rollout model); otherwise the sample is held for the whole horizon (DWA).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+EPS = 1e-4  # the generator's tolerance on the min/max translational checks
+
+
+def velocity_iterator(vmin: float, vmax: float, n: int) -> list[float]:
+    """VelocityIterator: one sample when the range is empty, else max(2, n) evenly spaced samples
+    with both ends, plus an exact 0 where the range crosses zero between two samples."""
+    if vmin == vmax:
+        return [float(vmin)]
+    n = max(2, int(n))
+    step = (vmax - vmin) / max(1, n - 1)
+    out: list[float] = []
+    nxt = vmin
+    for _ in range(n - 1):
+        cur = nxt
+        nxt += step
+        out.append(float(cur))
+        if cur < 0.0 < nxt:
+            out.append(0.0)
+    out.append(float(vmax))
+    return out
+
+
+def sample_grid(lo: np.ndarray, hi: np.ndarray, counts: tuple[int, int, int]) -> np.ndarray:
+    """The Cartesian product vx x vy x vth of the three iterators, vth varying fastest, (K, 3).
+
+    A window with ``lo > hi`` (a velocity already outside the limits) still yields its iterator's
+    samples, as in ROS.
+    """
+    axes = [velocity_iterator(float(lo[i]), float(hi[i]), counts[i]) for i in range(3)]
+    g = np.array(np.meshgrid(axes[0], axes[1], axes[2], indexing="ij"), dtype=np.float64)
+    return g.reshape(3, -1).T.copy()
+
+
+def filter_and_steps(samples: np.ndarray, sim_time: float, sim_granularity: float,
+                     angular_sim_granularity: float, min_vel_trans: float, min_vel_theta: float,
+                     max_vel_trans: float) -> tuple[np.ndarray, np.ndarray]:
+    """Drop the samples generateTrajectory refuses and give each kept one its step count.
+
+    Refused: too slow both in translation and rotation (each check only when its minimum is >= 0),
+    faster than ``max_vel_trans`` (when >= 0), or zero steps (standing still).
+    """
+    vmag = np.hypot(samples[:, 0], samples[:, 1])
+    w = np.abs(samples[:, 2])
+    too_slow = ((min_vel_trans >= 0) & (vmag + EPS < min_vel_trans)
+                & (min_vel_theta >= 0) & (w + EPS < min_vel_theta))
+    too_fast = (max_vel_trans >= 0) & (vmag - EPS > max_vel_trans)
+    steps = np.ceil(np.maximum(vmag * sim_time / sim_granularity,
+                               w * sim_time / angular_sim_granularity)).astype(np.int64)
+    keep = ~too_slow & ~too_fast & (steps > 0)
+    return samples[keep], steps[keep]
+
+
+@njit(cache=True, nogil=True)
+def _ramp(target: float, v: float, acc: float, dt: float) -> float:
+    """computeNewVelocities for one axis: move toward ``target`` by at most acc*dt."""
+    if target < v:
+        return max(target, v - acc * dt)
+    return min(target, v + acc * dt)
+
+
+CONSTANT, RAMPED, RAMPED_FROM_CURRENT = 0, 1, 2
+"""Velocity models of ``simulate``: DWA holds the sample; SimpleTrajectoryGenerator without DWA
+ramps toward it and takes the first ramped step as the command; TrajectoryPlanner ramps from the
+current velocity and commands the sample itself."""
+
+
+@njit(cache=True, nogil=True)
+def simulate(samples: np.ndarray, steps: np.ndarray, x: float, y: float, theta: float,
+             vel: np.ndarray, acc: np.ndarray, sim_time: float, mode: int
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """Roll every sample out; return (points (K, max_steps, 3) NaN-padded, commands (K, 3)).
+
+    Row k holds ``steps[k]`` poses. ``mode`` is CONSTANT, RAMPED or RAMPED_FROM_CURRENT.
+    """
+    k_n = samples.shape[0]
+    n_max = 1
+    for k in range(k_n):
+        if steps[k] > n_max:
+            n_max = steps[k]
+    pts = np.full((k_n, n_max, 3), np.nan)
+    cmd = np.empty((k_n, 3))
+    for k in range(k_n):
+        n = steps[k]
+        dt = sim_time / n
+        tx, ty, tw = samples[k, 0], samples[k, 1], samples[k, 2]
+        if mode == 1:  # the generator ramps once before the loop and again in every step
+            vx = _ramp(tx, vel[0], acc[0], dt)
+            vy = _ramp(ty, vel[1], acc[1], dt)
+            vw = _ramp(tw, vel[2], acc[2], dt)
+            cmd[k, 0], cmd[k, 1], cmd[k, 2] = vx, vy, vw
+        elif mode == 2:
+            vx, vy, vw = vel[0], vel[1], vel[2]
+            cmd[k, 0], cmd[k, 1], cmd[k, 2] = tx, ty, tw
+        else:
+            vx, vy, vw = tx, ty, tw
+            cmd[k, 0], cmd[k, 1], cmd[k, 2] = tx, ty, tw
+        px, py, pth = x, y, theta
+        for i in range(n):
+            pts[k, i, 0] = px
+            pts[k, i, 1] = py
+            pts[k, i, 2] = pth
+            if mode != 0:
+                vx = _ramp(tx, vx, acc[0], dt)
+                vy = _ramp(ty, vy, acc[1], dt)
+                vw = _ramp(tw, vw, acc[2], dt)
+            c = math.cos(pth)
+            s = math.sin(pth)
+            px += (vx * c - vy * s) * dt
+            py += (vx * s + vy * c) * dt
+            pth += vw * dt
+    return pts, cmd
