@@ -1,0 +1,221 @@
+"""The three node bases of navbt (leaf, control, decorator) on py_trees ports.
+
+Every navbt node is a ``py_trees.ports.PortsMixin`` class: ports are declared once in
+``INPUT_PORTS``/``OUTPUT_PORTS`` and the class auto-registers under its name, so the YAML loader,
+the BT.CPP XML loader and ``mission nodes`` all see the same catalogue.
+
+Wiring (what the loaders do, and what tests may do by hand through ``make``):
+
+* a port given as ``"{key}"`` reads/writes the blackboard key ``<namespace>/key``;
+* a port given a literal holds that constant (kept on the node: no blackboard round trip);
+* a port not given at all falls back to ``DEFAULT_KEYS`` (a well-known blackboard key such as
+  ``goal`` or ``cmd_vel``) and otherwise to a private key plus the declared default value.
+
+Every blackboard client lives under the namespace given at build time (e.g. ``/mission_3``):
+py_trees storage is process-global, and this is what keeps two missions apart.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar, Iterable
+
+import py_trees
+from py_trees.common import Status
+from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
+
+__all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "PortInformation", "Status",
+           "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable"]
+
+_MISSING = object()
+
+
+class ComponentError(RuntimeError):
+    """A node's ``setup`` did not receive a component it needs; the message names both."""
+
+
+def namespaced(namespace: str, key: str) -> str:
+    """Absolute blackboard key of ``key`` inside ``namespace`` (both '/'-separated)."""
+    if key.startswith("/"):
+        return key
+    return namespace.rstrip("/") + "/" + key
+
+
+class NavNode(PortsMixin):
+    """Mixin of every navbt node: literal ports, well-known default keys, component lookup.
+
+    ``DEFAULT_KEYS`` maps a port to the blackboard key it uses when the tree does not wire it
+    (BT.CPP's ``"{goal}"`` default values), so a plain ``- GoalUpdated: {}`` watches ``goal``.
+    """
+
+    DEFAULT_KEYS: ClassVar[dict[str, str]] = {}
+    CATEGORY: ClassVar[str] = "Action"
+
+    def __init__(self, name: str = "", **kwargs: Any) -> None:
+        super().__init__(name=name or type(self).__name__, **kwargs)
+        self._literals: dict[str, Any] = {}
+        self.namespace = "/"
+        self._setup_done = False
+
+    # ---------------------------------------------------------------- wiring
+    def wire(self, namespace: str, refs: dict[str, str] | None = None,
+             literals: dict[str, Any] | None = None) -> None:
+        """Connect the ports: ``refs`` port -> absolute key, ``literals`` port -> constant.
+
+        Ports in neither use ``DEFAULT_KEYS`` (resolved inside ``namespace``) or a private key.
+        """
+        refs = dict(refs or {})
+        literals = dict(literals or {})
+        for port, key in self.DEFAULT_KEYS.items():
+            if port not in refs and port not in literals:
+                refs[port] = namespaced(namespace, key)
+        self.namespace = namespace
+        self._literals = literals
+        self.setup_ports(port_remappings=refs, subtree_namespace=namespace)
+
+    def get_input(self, port_name: str, default: Any = None) -> Any:
+        """The port's literal if it has one, else the blackboard value, else its default."""
+        value = self._literals.get(port_name, _MISSING)
+        if value is not _MISSING:
+            return value
+        return super().get_input(port_name, default)
+
+    def read(self, port_name: str) -> Any:
+        """Like ``get_input`` but None when no data is available yet (no exception)."""
+        value = self._literals.get(port_name, _MISSING)
+        if value is not _MISSING:
+            return value
+        try:
+            return super().get_input(port_name)
+        except NoDataAvailable:
+            return None
+
+    def write(self, port_name: str, value: Any) -> None:
+        """Write an output port."""
+        self._set_output(port_name, value)
+
+    def port_key(self, port_name: str) -> str:
+        """The absolute blackboard key behind a port (for messages and tests)."""
+        return self._get_blackboard_key(port_name)
+
+    # ---------------------------------------------------------------- components
+    def component(self, kwargs: dict[str, Any], key: str, optional: bool = False) -> Any:
+        """Fetch ``key`` from the ``setup`` kwargs or raise ComponentError naming the node."""
+        if key in kwargs and kwargs[key] is not None:
+            return kwargs[key]
+        if optional:
+            return None
+        raise ComponentError(f"{type(self).__name__} '{self.name}': setup() needs component "
+                             f"'{key}' (see behaviors/components.py)")
+
+    def say(self, message: str) -> None:
+        """Set the feedback message (lands in the executive's tick record)."""
+        self.feedback_message = message
+
+    @classmethod
+    def describe(cls) -> str:
+        """First line of the class docstring."""
+        return (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+
+
+class Leaf(NavNode, py_trees.behaviour.Behaviour):
+    """Base of actions and conditions (no children)."""
+
+
+class Control(NavNode, py_trees.composites.Composite):
+    """Base of control nodes. Subclasses implement ``tick`` as a generator (py_trees idiom).
+
+    ``MIN_CHILDREN``/``MAX_CHILDREN`` are checked by the loader (STYLE 2.5) and at construction.
+    """
+
+    CATEGORY = "Control"
+    MIN_CHILDREN: ClassVar[int] = 1
+    MAX_CHILDREN: ClassVar[int | None] = None
+
+    def __init__(self, name: str = "", children: Iterable[py_trees.behaviour.Behaviour] | None = None,
+                 **kwargs: Any) -> None:
+        super().__init__(name=name, children=list(children or []), **kwargs)
+
+    def _finish(self, status: Status) -> Iterable[py_trees.behaviour.Behaviour]:
+        """Set the final status of this tick, stopping self (and so children) when not RUNNING."""
+        if status != Status.RUNNING:
+            self.stop(status)
+        self.status = status
+        yield self
+
+    def halt_children(self, start: int = 0) -> None:
+        """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
+        for child in self.children[start:]:
+            if child.status != Status.INVALID:
+                child.stop(Status.INVALID)
+
+    def stop(self, new_status: Status = Status.INVALID) -> None:
+        # Unlike py_trees (which keeps finished children for introspection), BT.CPP halts every
+        # child when a control node finishes: a later run must start them afresh.
+        self.halt_children()
+        super().stop(new_status)
+
+
+class DecoratorNode(NavNode, py_trees.decorators.Decorator):
+    """Base of decorators that decide *whether* to tick their child (custom ``tick``)."""
+
+    CATEGORY = "Decorator"
+
+    def __init__(self, name: str = "", child: py_trees.behaviour.Behaviour | None = None,
+                 **kwargs: Any) -> None:
+        if child is None:
+            raise TypeError(f"{type(self).__name__} '{name}': a decorator needs a child")
+        super().__init__(name=name, child=child, **kwargs)
+
+    def _finish(self, status: Status) -> Iterable[py_trees.behaviour.Behaviour]:
+        if status != Status.RUNNING:
+            self.stop(status)
+        self.status = status
+        yield self
+
+    def update(self) -> Status:
+        """Unused: these decorators decide in ``tick`` (py_trees declares it abstract)."""
+        return self.decorated.status
+
+    def halt_child(self) -> None:
+        if self.decorated.status != Status.INVALID:
+            self.decorated.stop(Status.INVALID)
+
+    def stop(self, new_status: Status = Status.INVALID) -> None:
+        self.terminate(new_status)
+        self.halt_child()
+        self.status = new_status
+
+
+def node_classes() -> dict[str, type[NavNode]]:
+    """Every registered navbt node class by tag (imports the whole library first)."""
+    import behaviors.library  # noqa: F401  (registers every node class)
+    return {tag: cls for tag, cls in get_ports_registry().items() if issubclass(cls, NavNode)}
+
+
+def make(node_type: str | type[NavNode], name: str = "", namespace: str = "/test",
+         children: list[py_trees.behaviour.Behaviour] | None = None,
+         child: py_trees.behaviour.Behaviour | None = None, **ports: Any) -> NavNode:
+    """Build and wire one node by hand (tests): ``"{key}"`` strings are references.
+
+    >>> make("Wait", wait_duration=2.0)            # doctest: +SKIP
+    """
+    cls = node_classes()[node_type] if isinstance(node_type, str) else node_type
+    kwargs: dict[str, Any] = {}
+    if issubclass(cls, Control):
+        kwargs["children"] = children or []
+    elif issubclass(cls, DecoratorNode):
+        kwargs["child"] = child
+    node = cls(name=name or cls.__name__, **kwargs)
+    refs, literals = {}, {}
+    for port, value in ports.items():
+        if port not in cls.input_ports() and port not in cls.output_ports():
+            raise KeyError(f"{cls.__name__}: no port '{port}'")
+        if isinstance(value, str) and value.startswith("{") and value.endswith("}"):
+            refs[port] = namespaced(namespace, value[1:-1])
+        else:
+            info = cls.input_ports().get(port)
+            if info is not None and info.data_type is float and isinstance(value, int):
+                value = float(value)
+            literals[port] = value
+    node.wire(namespace, refs, literals)
+    return node

@@ -1,0 +1,392 @@
+"""Control nodes with BehaviorTree.CPP / Nav2 semantics.
+
+py_trees' ``Sequence(memory=...)``/``Selector`` cover only part of these, so each is written out
+as a ``tick`` generator. Common rule (BT.CPP): when a control node finishes (SUCCESS or FAILURE)
+or is halted, every child is halted, so a later run starts all of them afresh.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+import py_trees
+
+from behaviors.base import Control, PortInformation, Status
+
+Behaviour = py_trees.behaviour.Behaviour
+
+
+class Sequence(Control):
+    """Tick children in order; resume at the RUNNING child on the next tick.
+
+    A child's FAILURE fails the sequence (and the next run starts from the first child).
+    SUCCESS once every child has succeeded. (BT.CPP ``Sequence``.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._index = 0
+        while self._index < len(self.children):
+            child = self.children[self._index]
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == Status.FAILURE:
+                self._index = 0
+                yield from self._finish(Status.FAILURE)
+                return
+            self._index += 1
+        self._index = 0
+        yield from self._finish(Status.SUCCESS)
+
+
+class SequenceWithMemory(Control):
+    """Like Sequence, but a failed child is ticked again (not the first child) on the next run.
+
+    The memory is kept until the whole sequence succeeds. (BT.CPP ``SequenceWithMemory``.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        while self._index < len(self.children):
+            child = self.children[self._index]
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == Status.FAILURE:
+                yield from self._finish(Status.FAILURE)
+                return
+            self._index += 1
+        self._index = 0
+        yield from self._finish(Status.SUCCESS)
+
+
+class ReactiveSequence(Control):
+    """Tick every child from the first on each tick (conditions are re-checked every tick).
+
+    A child RUNNING: later children are halted, RUNNING. A child FAILURE: the running branch is
+    halted, FAILURE. SUCCESS when all succeed in one tick. (BT.CPP ``ReactiveSequence``.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        for i, child in enumerate(self.children):
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                self.halt_children(i + 1)
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == Status.FAILURE:
+                yield from self._finish(Status.FAILURE)
+                return
+        yield from self._finish(Status.SUCCESS)
+
+
+class Fallback(Control):
+    """Tick children in order until one does not fail; resume at the RUNNING child.
+
+    SUCCESS at the first child that succeeds; FAILURE when all have failed. (BT.CPP ``Fallback``.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._index = 0
+        while self._index < len(self.children):
+            child = self.children[self._index]
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == Status.SUCCESS:
+                self._index = 0
+                yield from self._finish(Status.SUCCESS)
+                return
+            self._index += 1
+        self._index = 0
+        yield from self._finish(Status.FAILURE)
+
+
+class ReactiveFallback(Control):
+    """Tick every child from the first on each tick; higher priorities preempt a running one.
+
+    A child RUNNING: later children are halted, RUNNING. SUCCESS at the first success;
+    FAILURE when all fail in one tick. (BT.CPP ``ReactiveFallback``.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        for i, child in enumerate(self.children):
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                self.halt_children(i + 1)
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == Status.SUCCESS:
+                yield from self._finish(Status.SUCCESS)
+                return
+        yield from self._finish(Status.FAILURE)
+
+
+class Parallel(Control):
+    """Tick all unfinished children every tick (one thread, in order).
+
+    SUCCESS when ``success_count`` children succeeded (-1: all), FAILURE when ``failure_count``
+    failed (-1: all); either halts the rest. Otherwise RUNNING. (BT.CPP ``Parallel``.)
+    """
+
+    INPUT_PORTS = {
+        "success_count": PortInformation(int, False, "children that must succeed; -1 = all", -1),
+        "failure_count": PortInformation(int, False, "children failing to fail the node; -1 = all", 1),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def _threshold(self, port: str) -> int:
+        n = self.get_input(port)
+        return len(self.children) if n < 0 else min(n, len(self.children))
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._done: dict[int, Status] = {}
+        need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
+        for i, child in enumerate(self.children):
+            if i in self._done:
+                continue
+            yield from child.tick()
+            if child.status in (Status.SUCCESS, Status.FAILURE):
+                self._done[i] = child.status
+        successes = sum(1 for s in self._done.values() if s == Status.SUCCESS)
+        failures = len(self._done) - successes
+        if successes >= need_success:
+            yield from self._finish(Status.SUCCESS)
+        elif failures >= need_failure or len(self._done) == len(self.children):
+            yield from self._finish(Status.FAILURE)
+        else:
+            yield from self._finish(Status.RUNNING)
+
+
+class PipelineSequence(Control):
+    """Re-tick every earlier child each tick while a later one runs (Nav2 ``PipelineSequence``).
+
+    So ``RateController(ComputePathToPose)`` keeps replanning while ``FollowPath`` runs. Any child
+    FAILURE halts all and fails; SUCCESS when the last child succeeds.
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._last = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._last = 0
+        for i, child in enumerate(self.children):
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.FAILURE:
+                self._last = 0
+                yield from self._finish(Status.FAILURE)
+                return
+            if child.status == Status.RUNNING and i >= self._last:
+                self._last = i
+                yield from self._finish(Status.RUNNING)
+                return
+        self._last = 0
+        yield from self._finish(Status.SUCCESS)
+
+
+class RecoveryNode(Control):
+    """Run the first child; on its failure run the second (recovery) and try again, same tick.
+
+    * first child SUCCESS: SUCCESS. RUNNING: RUNNING.
+    * first child FAILURE: if fewer than ``number_of_retries`` recoveries ran, halt it and tick
+      the recovery in the same tick; otherwise FAILURE.
+    * recovery SUCCESS: count one retry and tick the first child again, same tick.
+      RUNNING: RUNNING. FAILURE: FAILURE.
+    Finishing or being halted resets the retry count. The main action thus gets up to
+    ``number_of_retries + 1`` attempts. (Nav2 ``RecoveryNode``; exactly two children.)
+    """
+
+    INPUT_PORTS = {
+        "number_of_retries": PortInformation(int, False, "recoveries before giving up", 1),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    MIN_CHILDREN = 2
+    MAX_CHILDREN = 2
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._retries = 0
+        self._index = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._retries, self._index = 0, 0
+        limit = self.get_input("number_of_retries")
+        main, recovery = self.children
+        while True:
+            if self._index == 0:
+                self.current_child = main
+                yield from main.tick()
+                if main.status == Status.RUNNING:
+                    yield from self._finish(Status.RUNNING)
+                    return
+                if main.status == Status.SUCCESS:
+                    yield from self._finish(Status.SUCCESS)
+                    return
+                if self._retries >= limit:
+                    self.say(f"main child failed after {self._retries} recoveries")
+                    yield from self._finish(Status.FAILURE)
+                    return
+                main.stop(Status.INVALID)
+                self._index = 1
+            else:
+                self.current_child = recovery
+                yield from recovery.tick()
+                if recovery.status == Status.RUNNING:
+                    yield from self._finish(Status.RUNNING)
+                    return
+                if recovery.status == Status.FAILURE:
+                    self.say(f"recovery {self._retries + 1} failed")
+                    yield from self._finish(Status.FAILURE)
+                    return
+                recovery.stop(Status.INVALID)
+                self._retries += 1
+                self.say(f"recovery {self._retries} of {limit} done, retrying")
+                self._index = 0
+
+    def terminate(self, new_status: Status) -> None:
+        self._retries, self._index = 0, 0
+
+
+class RoundRobin(Control):
+    """Tick one child per attempt, moving on to the next child each time one finishes.
+
+    A child SUCCESS: SUCCESS (the next run starts at the following child). FAILURE: the next
+    child is tried in the same tick. FAILURE once every child has failed in a row, or, with
+    ``wrap_around: false``, once the last child has been attempted (so a recovery list is tried
+    at most once per navigation; the position then returns to the first child). Halting it
+    while RUNNING resets the position; halting it after it finished does not.
+    (Nav2 ``RoundRobin``, main branch.)
+    """
+
+    INPUT_PORTS = {
+        "wrap_around": PortInformation(bool, False, "start again at the first child after the last",
+                                       False),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+        self._failed = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        n = len(self.children)
+        wrap = self.get_input("wrap_around")
+        if self._index >= n:  # the last child succeeded last time and there is no wrap
+            self._index, self._failed = 0, 0
+            self.say("every child attempted")
+            yield from self._finish(Status.FAILURE)
+            return
+        while self._failed < n:
+            child = self.children[self._index]
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            self._index += 1
+            exhausted = self._index == n
+            if exhausted and wrap:
+                self._index = 0
+            if child.status == Status.SUCCESS:
+                self._failed = 0
+                yield from self._finish(Status.SUCCESS)
+                return
+            self._failed += 1
+            if exhausted and not wrap:
+                break
+        self._failed = 0
+        self._index = self._index % n if wrap else 0
+        self.say("every child attempted")
+        yield from self._finish(Status.FAILURE)
+
+    def terminate(self, new_status: Status) -> None:
+        # Interrupted while running (goal change, parent halted): forget the position.
+        if new_status == Status.INVALID and self.status == Status.RUNNING:
+            self._index, self._failed = 0, 0
+
+    def reset(self) -> None:
+        """Start again at the first child (a new goal)."""
+        self._index, self._failed = 0, 0
+
+
+class IfThenElse(Control):
+    """First child is the condition: SUCCESS runs the second child, FAILURE the third.
+
+    With only two children a false condition gives FAILURE. The chosen branch keeps running
+    until it finishes; its status is returned. (BT.CPP ``IfThenElse``; 2 or 3 children.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    MIN_CHILDREN = 2
+    MAX_CHILDREN = 3
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._branch = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._branch = 0
+        if self._branch == 0:
+            cond = self.children[0]
+            yield from cond.tick()
+            if cond.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            if cond.status == Status.SUCCESS:
+                self._branch = 1
+            elif len(self.children) == 3:
+                self._branch = 2
+            else:
+                yield from self._finish(Status.FAILURE)
+                return
+        branch = self.children[self._branch]
+        self.current_child = branch
+        yield from branch.tick()
+        yield from self._finish(branch.status)

@@ -1,0 +1,299 @@
+"""Decorators: Nav2's throttles and goal handling, BT.CPP's retry/repeat/timeout family.
+
+Every time-based decorator reads the injected ``clock`` (setup kwarg); none reads the system
+clock, so Timeout, Delay and RateController run in simulated time.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Iterator
+
+import py_trees
+
+from behaviors.base import DecoratorNode, PortInformation, Status
+from navcore.types import Pose2D
+
+Behaviour = py_trees.behaviour.Behaviour
+
+
+class _Passthrough(DecoratorNode):
+    """Tick the child every tick and map its status through ``convert``."""
+
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation]
+
+    def convert(self, status: Status) -> Status:
+        raise NotImplementedError
+
+    def tick(self) -> Iterator[Behaviour]:
+        yield from self.decorated.tick()
+        yield from self._finish(self.convert(self.decorated.status))
+
+
+class Inverter(_Passthrough):
+    """SUCCESS <-> FAILURE of the child; RUNNING passes through."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def convert(self, status: Status) -> Status:
+        return {Status.SUCCESS: Status.FAILURE, Status.FAILURE: Status.SUCCESS}.get(status, status)
+
+
+class ForceSuccess(_Passthrough):
+    """SUCCESS whenever the child finishes (either way); RUNNING passes through."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def convert(self, status: Status) -> Status:
+        return Status.RUNNING if status == Status.RUNNING else Status.SUCCESS
+
+
+class ForceFailure(_Passthrough):
+    """FAILURE whenever the child finishes (either way); RUNNING passes through."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def convert(self, status: Status) -> Status:
+        return Status.RUNNING if status == Status.RUNNING else Status.FAILURE
+
+
+class RetryUntilSuccessful(DecoratorNode):
+    """Run the child again after a failure, up to ``num_attempts`` attempts in all (-1: forever).
+
+    SUCCESS as soon as the child succeeds; FAILURE after the last failed attempt. Unlike BT.CPP,
+    a failed attempt is retried on the *next* tick (RUNNING in between), so a synchronous child
+    that keeps failing cannot stall the control loop.
+    """
+
+    INPUT_PORTS = {"num_attempts": PortInformation(int, False, "attempts in all; -1 = forever", 1)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._attempts = 0
+        yield from self.decorated.tick()
+        status = self.decorated.status
+        if status == Status.FAILURE:
+            self._attempts += 1
+            limit = self.get_input("num_attempts")
+            self.say(f"attempt {self._attempts} of {limit} failed")
+            if limit < 0 or self._attempts < limit:
+                self.decorated.stop(Status.INVALID)
+                status = Status.RUNNING
+        yield from self._finish(status)
+
+
+class Repeat(DecoratorNode):
+    """Run the child ``num_cycles`` times in a row (-1: forever), one run per tick at most.
+
+    RUNNING between runs; FAILURE as soon as a run fails; SUCCESS after the last success.
+    """
+
+    INPUT_PORTS = {"num_cycles": PortInformation(int, False, "successful runs; -1 = forever", 1)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._done = 0
+        yield from self.decorated.tick()
+        status = self.decorated.status
+        if status == Status.SUCCESS:
+            self._done += 1
+            limit = self.get_input("num_cycles")
+            self.say(f"cycle {self._done} of {limit} done")
+            if limit < 0 or self._done < limit:
+                self.decorated.stop(Status.INVALID)
+                status = Status.RUNNING
+        yield from self._finish(status)
+
+
+class _Timed(DecoratorNode):
+    """A decorator that needs the clock."""
+
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation]
+
+    def setup(self, **kwargs: Any) -> None:
+        self.clock = self.component(kwargs, "clock")
+
+
+class Timeout(_Timed):
+    """FAILURE (child halted) if the child is still RUNNING ``msec`` milliseconds after it started.
+
+    Otherwise the child's status. The clock starts on the first tick of a run.
+    """
+
+    INPUT_PORTS = {"msec": PortInformation(int, True, "time allowed, ms")}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        now = self.clock.now()
+        if self.status != Status.RUNNING:
+            self._deadline = now + self.get_input("msec") / 1000.0
+        if now >= self._deadline:
+            self.say("timed out")
+            yield from self._finish(Status.FAILURE)
+            return
+        yield from self.decorated.tick()
+        yield from self._finish(self.decorated.status)
+
+
+class Delay(_Timed):
+    """RUNNING for ``delay_msec`` milliseconds, then tick the child and return its status."""
+
+    INPUT_PORTS = {"delay_msec": PortInformation(int, True, "delay before the child runs, ms")}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        now = self.clock.now()
+        if self.status != Status.RUNNING:
+            self._start_at = now + self.get_input("delay_msec") / 1000.0
+        if now < self._start_at:
+            self.say(f"waiting {self._start_at - now:.2f} s")
+            yield from self._finish(Status.RUNNING)
+            return
+        yield from self.decorated.tick()
+        yield from self._finish(self.decorated.status)
+
+
+class RateController(_Timed):
+    """Tick the child at most ``hz`` times per second (Nav2 ``RateController``).
+
+    The child is ticked on the first tick of a run, whenever it is RUNNING, and when ``1/hz``
+    seconds passed since its last success; otherwise the child's last result is returned.
+    ``hz: 0`` ticks it once per run (move_base's ``planner_frequency: 0``).
+    """
+
+    INPUT_PORTS = {"hz": PortInformation(float, False, "rate, Hz; 0 = once per run", 10.0)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        now = self.clock.now()
+        hz = self.get_input("hz")
+        if self.status == Status.INVALID:
+            self._last_ok = -math.inf
+            self._last_status = Status.INVALID
+        due = hz > 0.0 and now - self._last_ok >= 1.0 / hz
+        if (self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due):
+            yield from self.decorated.tick()
+            self._last_status = self.decorated.status
+            if self._last_status == Status.SUCCESS:
+                self._last_ok = now
+        yield from self._finish(self._last_status)
+
+
+class _UsesRobot(DecoratorNode):
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation]
+
+    def setup(self, **kwargs: Any) -> None:
+        self.clock = self.component(kwargs, "clock")
+        self.robot = self.component(kwargs, "robot")
+
+
+class DistanceController(_UsesRobot):
+    """Tick the child each time the robot has travelled ``distance`` metres (Nav2).
+
+    Also on the first tick of a run and while the child is RUNNING; otherwise the child's last
+    result. Distance is straight-line from where the child last succeeded.
+    """
+
+    INPUT_PORTS = {"distance": PortInformation(float, False, "travel between ticks, m", 1.0)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        pose = self.robot.pose()
+        if self.status == Status.INVALID:
+            self._last_status = Status.INVALID
+            self._anchor = pose
+        far = pose.distance_to(self._anchor) >= self.get_input("distance")
+        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or far:
+            yield from self.decorated.tick()
+            self._last_status = self.decorated.status
+            if self._last_status == Status.SUCCESS:
+                self._anchor = pose
+        yield from self._finish(self._last_status)
+
+
+class SpeedController(_UsesRobot):
+    """Tick the child at a rate that grows with the robot's speed (Nav2 ``SpeedController``).
+
+    Rate = min_rate + (max_rate - min_rate) * (v - min_speed) / (max_speed - min_speed), clamped;
+    first tick of a run, RUNNING child, or period elapsed tick the child.
+    """
+
+    INPUT_PORTS = {
+        "min_rate": PortInformation(float, False, "rate at min_speed, Hz", 0.1),
+        "max_rate": PortInformation(float, False, "rate at max_speed, Hz", 1.0),
+        "min_speed": PortInformation(float, False, "speed giving min_rate, m/s", 0.0),
+        "max_speed": PortInformation(float, False, "speed giving max_rate, m/s", 0.5),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def rate(self, speed: float) -> float:
+        lo, hi = self.get_input("min_speed"), self.get_input("max_speed")
+        r0, r1 = self.get_input("min_rate"), self.get_input("max_rate")
+        f = 0.0 if hi <= lo else min(1.0, max(0.0, (speed - lo) / (hi - lo)))
+        return r0 + (r1 - r0) * f
+
+    def tick(self) -> Iterator[Behaviour]:
+        now = self.clock.now()
+        v = self.robot.velocity()
+        rate = self.rate(math.hypot(v.vx, v.vy))
+        if self.status == Status.INVALID:
+            self._last_status, self._last_ok = Status.INVALID, -math.inf
+        due = rate > 0.0 and now - self._last_ok >= 1.0 / rate
+        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due:
+            yield from self.decorated.tick()
+            self._last_status = self.decorated.status
+            if self._last_status == Status.SUCCESS:
+                self._last_ok = now
+        yield from self._finish(self._last_status)
+
+
+class SingleTrigger(DecoratorNode):
+    """Run the child once per activation; afterwards FAILURE until the parent resets this node.
+
+    (Nav2 ``SingleTrigger``: e.g. one Spin per navigation attempt.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status == Status.INVALID:
+            self._fired = False
+        if self._fired and self.decorated.status != Status.RUNNING:
+            yield from self._finish(Status.FAILURE)
+            return
+        yield from self.decorated.tick()
+        if self.decorated.status != Status.RUNNING:
+            self._fired = True
+        yield from self._finish(self.decorated.status)
+
+
+class GoalUpdater(DecoratorNode):
+    """Pass a newer goal on to the subtree: ``output_goal`` = ``goal_update`` if one arrived, else
+    ``input_goal``; then tick the child and return its status (Nav2 ``GoalUpdater``).
+
+    ``goal_update`` is the key an operator (or the executive) writes a replacement goal to.
+    """
+
+    INPUT_PORTS = {
+        "input_goal": PortInformation(Pose2D, True, "the current goal"),
+        "goal_update": PortInformation(Pose2D, False, "a replacement goal, if one arrived"),
+    }
+    OUTPUT_PORTS = {"output_goal": PortInformation(Pose2D, True, "goal the subtree should use")}
+    DEFAULT_KEYS = {"input_goal": "goal", "goal_update": "goal_update", "output_goal": "goal"}
+
+    def tick(self) -> Iterator[Behaviour]:
+        update = self.read("goal_update")
+        goal = update if update is not None else self.read("input_goal")
+        if goal is not None:
+            self.write("output_goal", goal)
+        yield from self.decorated.tick()
+        yield from self._finish(self.decorated.status)

@@ -1,0 +1,60 @@
+"""NavigateToPose: Nav2's plan-and-follow pipeline packaged as one node (a fixed subtree)."""
+
+from __future__ import annotations
+
+from typing import Any, Iterator
+
+import py_trees
+
+from behaviors.actions import ComputePathToPose, FollowPath
+from behaviors.base import Control, PortInformation, Status, namespaced
+from behaviors.controls import PipelineSequence
+from behaviors.decorators import RateController
+from navcore.types import Pose2D
+
+Behaviour = py_trees.behaviour.Behaviour
+
+
+class NavigateToPose(Control):
+    """Plan to ``goal`` and follow the path, replanning at ``replan_hz`` (a subtree).
+
+    Inside: PipelineSequence[RateController(hz)[ComputePathToPose], FollowPath]. SUCCESS when
+    FollowPath reaches the goal; FAILURE with the failing child's error code on the blackboard
+    (``compute_path_error_code`` / ``follow_path_error_code``). It has no children of its own.
+    """
+
+    INPUT_PORTS = {
+        "goal": PortInformation(Pose2D, True, "goal pose in map"),
+        "replan_hz": PortInformation(float, False, "replanning rate, Hz; 0 = plan once", 1.0),
+        "planner_id": PortInformation(str, False, "planner id", "GridBased"),
+        "controller_id": PortInformation(str, False, "controller id", "FollowPath"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"goal": "goal"}
+    MIN_CHILDREN = 0
+    MAX_CHILDREN = 0
+
+    def __init__(self, name: str = "", children: Any = None, **kwargs: Any) -> None:
+        base = name or "NavigateToPose"
+        self._plan = ComputePathToPose(name=f"{base}.ComputePathToPose")
+        self._rate = RateController(name=f"{base}.RateController", child=self._plan)
+        self._follow = FollowPath(name=f"{base}.FollowPath")
+        self._pipe = PipelineSequence(name=f"{base}.Pipeline", children=[self._rate, self._follow])
+        super().__init__(name=name, children=[self._pipe], **kwargs)
+
+    def wire(self, namespace: str, refs: dict[str, str] | None = None,
+             literals: dict[str, Any] | None = None) -> None:
+        super().wire(namespace, refs, literals)
+        lit = self._literals
+        goal_ref = {} if "goal" in lit else {"goal": self.port_key("goal")}
+        goal_lit = {"goal": lit["goal"]} if "goal" in lit else {}
+        self._plan.wire(namespace, goal_ref, {**goal_lit,
+                                              "planner_id": self.get_input("planner_id")})
+        self._rate.wire(namespace, {}, {"hz": self.get_input("replan_hz")})
+        self._follow.wire(namespace, {"path": namespaced(namespace, "path")},
+                          {"controller_id": self.get_input("controller_id")})
+        self._pipe.wire(namespace)
+
+    def tick(self) -> Iterator[Behaviour]:
+        yield from self._pipe.tick()
+        yield from self._finish(self._pipe.status)

@@ -1,0 +1,522 @@
+"""Recoveries: costmap clearing, Spin / BackUp / DriveOnHeading / Wait (Nav2 and rotate_recovery
+semantics), and the guide's extra SMACH-style ones, TemporaryGoal and BackOffToPreviousPose.
+
+Motion recoveries write ``cmd_vel`` one control period at a time, check the robot footprint on
+the costmap (``footprint_cost``) along the motion ahead, and fail with COLLISION_AHEAD rather than
+drive into a lethal cell. Every exit (finished or interrupted) leaves a zero command.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Iterable
+
+import numpy as np
+
+from behaviors.actions import heading_to
+from behaviors.base import Leaf, PortInformation, Status
+from behaviors.error_codes import BehaviorError
+from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
+from navcore.types import Pose2D, Twist, angle_diff
+
+COSTMAP_CHOICES = ("local", "global", "both")
+
+
+def is_collision(cost: int) -> bool:
+    """A footprint cost that forbids the pose: off the map (-1) or touching a lethal cell."""
+    return cost < 0 or (cost >= LETHAL_OBSTACLE and cost != NO_INFORMATION)
+
+
+class Recovery(Leaf):
+    """Base of recoveries: components, error reporting, the zero command on exit."""
+
+    CATEGORY = "Action"
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation]
+    CHOICES: dict[str, tuple] = {}
+    NEEDS_ROBOT = True
+
+    def setup(self, **kwargs: Any) -> None:
+        self.clock = self.component(kwargs, "clock")
+        self.robot = self.component(kwargs, "robot", optional=not self.NEEDS_ROBOT)
+        self.costmaps = {"local": kwargs.get("local_costmap"), "global": kwargs.get("global_costmap")}
+        self.control_period = float(kwargs.get("control_period") or 0.05)
+
+    def costmap_handles(self, which: str) -> list[Any]:
+        names = ("local", "global") if which == "both" else (which,)
+        return [self.costmaps[n] for n in names if self.costmaps.get(n) is not None]
+
+    def collision_map(self) -> Any:
+        """The costmap motion is checked on: the local one, else the global one."""
+        return self.costmaps.get("local") or self.costmaps.get("global")
+
+    def report(self, code: BehaviorError, msg: str = "") -> None:
+        if "error_code_id" in self.output_ports():
+            self.write("error_code_id", int(code))
+        self.say(msg)
+
+    def first_collision(self, poses: Iterable[Pose2D]) -> tuple[Pose2D, int] | None:
+        """First pose whose footprint is in collision, with its cost; None if all are clear."""
+        handle = self.collision_map()
+        if handle is None:
+            return None
+        for p in poses:
+            cost = int(handle.footprint_cost(p.x, p.y, p.theta))
+            if is_collision(cost):
+                return p, cost
+        return None
+
+    def stop_motion(self) -> None:
+        if "cmd_vel" in self.output_ports():
+            self.write("cmd_vel", Twist.zero())
+
+    def terminate(self, new_status: Status) -> None:
+        if self.status == Status.RUNNING or new_status != Status.INVALID:
+            self.stop_motion()
+
+
+_ERR = {"error_code_id": PortInformation(int, False, "a BehaviorError; 0 on success")}
+_CMD = {"cmd_vel": PortInformation(Twist, True, "velocity command for this tick")}
+
+
+class _Clear(Recovery):
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    CHOICES = {"costmap": COSTMAP_CHOICES}
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        raise NotImplementedError
+
+    def update(self) -> Status:
+        which = self.get_input("costmap")
+        if which not in COSTMAP_CHOICES:
+            self.say(f"costmap must be one of {COSTMAP_CHOICES}, got {which!r}")
+            return Status.FAILURE
+        handles = self.costmap_handles(which)
+        if not handles:
+            self.say(f"no {which} costmap was set up")
+            return Status.FAILURE
+        pose = self.robot.pose() if self.robot is not None else None
+        for h in handles:
+            self.clear(h, pose)
+        self.say(f"cleared {which}")
+        return Status.SUCCESS
+
+
+class ClearEntireCostmap(_Clear):
+    """Reset every layer of the ``costmap`` (local, global or both) in one tick. SUCCESS."""
+
+    INPUT_PORTS = {"costmap": PortInformation(str, False, "local, global or both", "both")}
+    NEEDS_ROBOT = False
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        handle.reset_layers()
+
+
+class ClearCostmapExceptRegion(_Clear):
+    """clear_costmap_recovery: reset clearable layers outside a square of side
+    ``reset_distance`` metres centred on the robot (move_base's conservative/aggressive reset).
+    SUCCESS in one tick."""
+
+    INPUT_PORTS = {
+        "costmap": PortInformation(str, False, "local, global or both", "both"),
+        "reset_distance": PortInformation(float, False, "side of the kept square, m", 1.0),
+    }
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        if pose is None:
+            raise RuntimeError(f"{self.name}: needs the robot pose")
+        handle.clear_outside(pose.x, pose.y, self.get_input("reset_distance"))
+
+
+class ClearCostmapAroundRobot(_Clear):
+    """Reset clearable layers inside a square of side ``reset_distance`` metres centred on the
+    robot. SUCCESS in one tick."""
+
+    INPUT_PORTS = {
+        "costmap": PortInformation(str, False, "local, global or both", "local"),
+        "reset_distance": PortInformation(float, False, "side of the cleared square, m", 1.0),
+    }
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        if pose is None:
+            raise RuntimeError(f"{self.name}: needs the robot pose")
+        handle.clear_inside(pose.x, pose.y, self.get_input("reset_distance"))
+
+
+class Wait(Recovery):
+    """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS."""
+
+    INPUT_PORTS = {"wait_duration": PortInformation(float, False, "s", 1.0)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    NEEDS_ROBOT = False
+
+    def initialise(self) -> None:
+        self._until = self.clock.now() + self.get_input("wait_duration")
+
+    def update(self) -> Status:
+        left = self._until - self.clock.now()
+        if left <= 1e-9:
+            return Status.SUCCESS
+        self.say(f"{left:.1f} s left")
+        return Status.RUNNING
+
+
+class Spin(Recovery):
+    """Turn in place by ``spin_dist`` radians (sign = direction), then stop (rotate_recovery).
+
+    Speed = clamp(sqrt(2 acc remaining), min_rotational_vel, max_rotational_vel), ramped by at
+    most ``rotational_acc_lim`` per second. RUNNING while turning; SUCCESS when the turned angle
+    is within ``yaw_goal_tolerance`` of the target; FAILURE (``error_code_id``) when
+    ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell within the
+    next ``simulate_ahead_time`` seconds of turning (COLLISION_AHEAD). A new run counts from zero.
+    """
+
+    INPUT_PORTS = {
+        "spin_dist": PortInformation(float, False, "angle to turn, rad; sign gives direction", 1.57),
+        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
+        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
+        "min_rotational_vel": PortInformation(float, False, "rad/s", 0.4),
+        "rotational_acc_lim": PortInformation(float, False, "rad/s^2", 3.2),
+        "yaw_goal_tolerance": PortInformation(float, False, "rad", 0.1),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "sim_granularity": PortInformation(float, False, "collision check step, rad", 0.017),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+    }
+    OUTPUT_PORTS = {**_CMD, **_ERR}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "spin_error_code"}
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._prev = self.robot.pose().theta
+        self._turned = 0.0
+        self._w = 0.0
+
+    def update(self) -> Status:
+        target = self.get_input("spin_dist")
+        sign = 1.0 if target >= 0.0 else -1.0
+        pose = self.robot.pose()
+        self._turned += sign * angle_diff(pose.theta, self._prev)
+        self._prev = pose.theta
+        remaining = abs(target) - self._turned
+        if remaining <= self.get_input("yaw_goal_tolerance"):
+            self.stop_motion()
+            self.report(BehaviorError.NONE, f"turned {self._turned:.2f} rad")
+            return Status.SUCCESS
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, f"time out after {self._turned:.2f} of "
+                                               f"{abs(target):.2f} rad")
+            return Status.FAILURE
+        acc = self.get_input("rotational_acc_lim")
+        w = math.sqrt(2.0 * acc * remaining)
+        w = min(max(w, self.get_input("min_rotational_vel")), self.get_input("max_rotational_vel"))
+        w = min(w, abs(self._w) + acc * self.control_period)
+        if not self.get_input("disable_collision_checks"):
+            ahead = min(remaining, w * self.get_input("simulate_ahead_time"))
+            step = max(self.get_input("sim_granularity"), ahead / 20.0)
+            n = max(1, int(math.ceil(ahead / step)))
+            poses = (Pose2D(pose.x, pose.y, pose.theta + sign * ahead * k / n)
+                     for k in range(1, n + 1))
+            hit = self.first_collision(poses)
+            if hit is not None:
+                self.stop_motion()
+                self.report(BehaviorError.COLLISION_AHEAD,
+                            f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
+                return Status.FAILURE
+        self._w = sign * w
+        self.write("cmd_vel", Twist(0.0, 0.0, self._w))
+        self.say(f"turned {self._turned:.2f} of {abs(target):.2f} rad")
+        return Status.RUNNING
+
+
+class DriveOnHeading(Recovery):
+    """Drive straight ``dist_to_travel`` metres at ``speed`` m/s along the current heading
+    (negative values drive backwards), then stop (Nav2 ``DriveOnHeading``).
+
+    RUNNING while driving; SUCCESS when the distance is covered; FAILURE on ``time_allowance``
+    (TIMEOUT), on a lethal cell under the footprint within ``simulate_ahead_time`` s of travel
+    (COLLISION_AHEAD), or when distance and speed have different signs (INVALID_INPUT).
+    """
+
+    INPUT_PORTS = {
+        "dist_to_travel": PortInformation(float, False, "m; negative = backwards", 0.15),
+        "speed": PortInformation(float, False, "m/s; same sign as the distance", 0.025),
+        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+    }
+    OUTPUT_PORTS = {**_CMD, **_ERR}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "drive_on_heading_error_code"}
+
+    def distance_and_speed(self) -> tuple[float, float]:
+        return self.get_input("dist_to_travel"), self.get_input("speed")
+
+    def initialise(self) -> None:
+        self._start_pose = self.robot.pose()
+        self._start = self.clock.now()
+
+    def update(self) -> Status:
+        dist, speed = self.distance_and_speed()
+        if dist * speed < 0.0 or speed == 0.0:
+            self.stop_motion()
+            self.report(BehaviorError.INVALID_INPUT, f"distance {dist} and speed {speed} must be "
+                                                     f"non-zero with the same sign")
+            return Status.FAILURE
+        pose = self.robot.pose()
+        travelled = pose.distance_to(self._start_pose)
+        remaining = abs(dist) - travelled
+        if remaining <= 1e-3:
+            self.stop_motion()
+            self.report(BehaviorError.NONE, f"drove {travelled:.2f} m")
+            return Status.SUCCESS
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, f"time out after {travelled:.2f} m")
+            return Status.FAILURE
+        direction = 1.0 if dist > 0.0 else -1.0
+        v = min(abs(speed), remaining / self.control_period)
+        if not self.get_input("disable_collision_checks"):
+            ahead = min(remaining, abs(speed) * self.get_input("simulate_ahead_time"))
+            n = max(1, int(math.ceil(ahead / 0.05)))
+            poses = (pose.compose(Pose2D(direction * ahead * k / n, 0.0, 0.0))
+                     for k in range(1, n + 1))
+            hit = self.first_collision(poses)
+            if hit is not None:
+                self.stop_motion()
+                self.report(BehaviorError.COLLISION_AHEAD,
+                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
+                return Status.FAILURE
+        self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
+        self.say(f"drove {travelled:.2f} of {abs(dist):.2f} m")
+        return Status.RUNNING
+
+
+class BackUp(DriveOnHeading):
+    """Drive straight backwards ``backup_dist`` metres at ``backup_speed`` m/s (both positive),
+    collision-checked like DriveOnHeading (Nav2 ``BackUp``)."""
+
+    INPUT_PORTS = {
+        "backup_dist": PortInformation(float, False, "m to back up", 0.15),
+        "backup_speed": PortInformation(float, False, "m/s", 0.025),
+        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+    }
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "backup_error_code"}
+
+    def distance_and_speed(self) -> tuple[float, float]:
+        return -abs(self.get_input("backup_dist")), -abs(self.get_input("backup_speed"))
+
+
+def ring_candidates(center: Pose2D, min_distance: float, max_distance: float, radial_step: float,
+                    angular_samples: int) -> list[Pose2D]:
+    """Poses on rings around ``center``, each facing away from it."""
+    out = []
+    radii = np.arange(min_distance, max_distance + 1e-9, max(radial_step, 1e-3))
+    for r in radii:
+        for k in range(angular_samples):
+            a = center.theta + 2.0 * math.pi * k / angular_samples
+            out.append(Pose2D(center.x + r * math.cos(a), center.y + r * math.sin(a),
+                              math.atan2(math.sin(a), math.cos(a))))
+    return out
+
+
+class TemporaryGoal(Recovery):
+    """Get out of a tight spot: find a free, reachable pose near the robot and drive there.
+
+    Candidates lie on rings from ``min_distance`` to ``search_radius`` metres, facing away from
+    the robot; those whose footprint cost is below the inscribed cost are tried from the most
+    open (lowest cost) on, at most ``max_plans_per_tick`` planner calls per tick, until one has a
+    plan. The controller then follows that plan. SUCCESS when it reports the goal reached (or
+    the robot is within ``xy_goal_tolerance``). FAILURE: NO_FREE_POSE, COLLISION_AHEAD (the
+    controller found no valid command), TIMEOUT. ``temporary_goal`` holds the chosen pose.
+    """
+
+    INPUT_PORTS = {
+        "search_radius": PortInformation(float, False, "farthest candidate, m", 1.5),
+        "min_distance": PortInformation(float, False, "nearest candidate, m", 0.4),
+        "radial_step": PortInformation(float, False, "spacing of the rings, m", 0.2),
+        "angular_samples": PortInformation(int, False, "candidates per ring", 16),
+        "costmap": PortInformation(str, False, "costmap to score candidates on", "local"),
+        "planner_id": PortInformation(str, False, "planner for the way there", "GridBased"),
+        "controller_id": PortInformation(str, False, "controller for the way there", "FollowPath"),
+        "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
+        "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
+        "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
+    }
+    OUTPUT_PORTS = {**_CMD, **_ERR,
+                    "temporary_goal": PortInformation(Pose2D, False, "the pose chosen")}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "temporary_goal_error_code",
+                    "temporary_goal": "temporary_goal"}
+    CHOICES = {"costmap": ("local", "global")}
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self.planners = self.component(kwargs, "planners")
+        self.controllers = self.component(kwargs, "controllers")
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._candidates: list[Pose2D] | None = None
+        self._goal: Pose2D | None = None
+        self._controller = None
+
+    def _rank(self, pose: Pose2D) -> list[Pose2D]:
+        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
+        scored = []
+        for c in ring_candidates(pose, self.get_input("min_distance"),
+                                 self.get_input("search_radius"), self.get_input("radial_step"),
+                                 self.get_input("angular_samples")):
+            cost = int(handle.footprint_cost(c.x, c.y, c.theta)) if handle is not None else 0
+            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
+                scored.append((cost, c.distance_to(pose), c))
+        scored.sort(key=lambda t: (t[0], t[1]))
+        return [c for _, _, c in scored]
+
+    def update(self) -> Status:
+        pose = self.robot.pose()
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "time out")
+            return Status.FAILURE
+        if self._goal is None:
+            return self._search(pose)
+        return self._drive(pose)
+
+    def _search(self, pose: Pose2D) -> Status:
+        if self._candidates is None:
+            self._candidates = self._rank(pose)
+        planner = self.planners.get(self.get_input("planner_id"))
+        controller = self.controllers.get(self.get_input("controller_id"))
+        if planner is None or controller is None:
+            self.report(BehaviorError.INVALID_INPUT, "unknown planner or controller id")
+            return Status.FAILURE
+        for _ in range(self.get_input("max_plans_per_tick")):
+            if not self._candidates:
+                self.stop_motion()
+                self.report(BehaviorError.NO_FREE_POSE, "no reachable free pose nearby")
+                return Status.FAILURE
+            cand = self._candidates.pop(0)
+            result = planner.make_plan(pose, cand)
+            if result.ok and result.path is not None and len(result.path) > 0:
+                self._goal, self._controller = cand, controller
+                controller.reset()
+                controller.set_plan(result.path)
+                self.write("temporary_goal", cand)
+                self.say(f"temporary goal ({cand.x:.2f}, {cand.y:.2f})")
+                break
+        self.write("cmd_vel", Twist.zero())
+        return Status.RUNNING
+
+    def _drive(self, pose: Pose2D) -> Status:
+        assert self._goal is not None and self._controller is not None
+        result = self._controller.compute_velocity(pose, self.robot.velocity())
+        if (result.status == "goal_reached" or self._controller.is_goal_reached()
+                or pose.distance_to(self._goal) <= self.get_input("xy_goal_tolerance")):
+            self.stop_motion()
+            self.report(BehaviorError.NONE, "reached the temporary goal")
+            return Status.SUCCESS
+        if result.status.startswith("no_valid"):
+            self.stop_motion()
+            self.report(BehaviorError.COLLISION_AHEAD, f"controller: {result.status}")
+            return Status.FAILURE
+        self.write("cmd_vel", result.cmd)
+        self.say(f"{pose.distance_to(self._goal):.2f} m to the temporary goal")
+        return Status.RUNNING
+
+    def terminate(self, new_status: Status) -> None:
+        super().terminate(new_status)
+        if getattr(self, "_controller", None) is not None:
+            self._controller.reset()  # the main FollowPath sets its own plan again
+            self._controller = None
+
+
+class BackOffToPreviousPose(Recovery):
+    """Drive back along the trail the robot came by to the pose visited ``distance`` metres ago.
+
+    The trail is ``pose_history`` (RecordPoseHistory). It starts at the stored pose nearest the
+    robot, so repeated back-offs go further back. The robot pursues the trail in reverse (pure
+    pursuit with negative speed, ``lookahead`` m), footprint-checked ahead. SUCCESS within
+    ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT.
+    """
+
+    INPUT_PORTS = {
+        "distance": PortInformation(float, False, "how far back along the trail, m", 0.5),
+        "speed": PortInformation(float, False, "m/s", 0.1),
+        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
+        "lookahead": PortInformation(float, False, "pure-pursuit look-ahead, m", 0.25),
+        "xy_goal_tolerance": PortInformation(float, False, "m", 0.08),
+        "time_allowance": PortInformation(float, False, "s before giving up", 20.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        "pose_history": PortInformation(list, False, "Pose2D trail, oldest first"),
+    }
+    OUTPUT_PORTS = {**_CMD, **_ERR}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "back_off_error_code",
+                    "pose_history": "pose_history"}
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._trail = self._plan_trail(self.robot.pose(), self.read("pose_history") or [])
+        self._i = 0
+
+    def _plan_trail(self, pose: Pose2D, history: list[Pose2D]) -> list[Pose2D]:
+        """Poses from the one nearest the robot back ``distance`` metres, newest first."""
+        if not history:
+            return []
+        near = min(range(len(history)), key=lambda i: history[i].distance_to(pose))
+        trail, travelled, want = [], 0.0, self.get_input("distance")
+        prev = history[near]
+        for p in reversed(history[:near + 1]):
+            travelled += p.distance_to(prev)
+            trail.append(p)
+            prev = p
+            if travelled >= want:
+                break
+        return trail if travelled > 0.0 else []
+
+    def update(self) -> Status:
+        pose = self.robot.pose()
+        if not self._trail:
+            self.stop_motion()
+            self.report(BehaviorError.NO_POSE_HISTORY, "no trail to back off along")
+            return Status.FAILURE
+        target = self._trail[-1]
+        if pose.distance_to(target) <= self.get_input("xy_goal_tolerance"):
+            self.stop_motion()
+            self.report(BehaviorError.NONE, "back at the previous pose")
+            return Status.SUCCESS
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "time out")
+            return Status.FAILURE
+        # advance along the trail past points already within the look-ahead
+        look = self.get_input("lookahead")
+        while self._i < len(self._trail) - 1 and pose.distance_to(self._trail[self._i]) < look:
+            self._i += 1
+        aim = self._trail[self._i].relative_to(pose)
+        speed = self.get_input("speed")
+        v = -speed if aim.x <= 0.0 else speed
+        v = math.copysign(min(abs(v), pose.distance_to(target) / self.control_period), v)
+        l2 = max(aim.x * aim.x + aim.y * aim.y, 1e-6)
+        w_max = self.get_input("max_rotational_vel")
+        w = max(-w_max, min(w_max, v * 2.0 * aim.y / l2))
+        if not self.get_input("disable_collision_checks"):
+            horizon = self.get_input("simulate_ahead_time")
+            n = max(1, int(math.ceil(abs(v) * horizon / 0.05)))
+            dt = horizon / n
+            poses, p = [], pose
+            for _ in range(n):
+                p = p.compose(Pose2D(v * dt, 0.0, w * dt))
+                poses.append(p)
+            hit = self.first_collision(poses)
+            if hit is not None:
+                self.stop_motion()
+                self.report(BehaviorError.COLLISION_AHEAD,
+                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m behind")
+                return Status.FAILURE
+        self.write("cmd_vel", Twist(v, 0.0, w))
+        self.say(f"{pose.distance_to(target):.2f} m to the previous pose "
+                 f"(heading {heading_to(pose, target):.2f})")
+        return Status.RUNNING

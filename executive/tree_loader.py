@@ -1,0 +1,155 @@
+"""Load behaviour trees from YAML (native) or BehaviorTree.CPP v4 XML, and export to XML.
+
+>>> loaded = load_tree("trees/move_base.yaml", namespace="/mission_1")   # doctest: +SKIP
+>>> loaded.setup(clock=clock, robot=robot, planners=..., controllers=..., ...)
+>>> loaded.set("goal", Pose2D(5.0, 2.0, 0.0))
+>>> cmd = loaded.tick()          # one control period; zero Twist if nothing wrote cmd_vel
+
+Every blackboard key of the tree lives under ``namespace`` (two missions never share keys).
+Errors are ``TreeError`` with ``file:line: NodeType: what is wrong (did you mean 'x'?)``.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import py_trees
+from py_trees.common import Access, Status
+
+from behaviors.base import namespaced, node_classes
+from executive.tree_build import Builder
+from executive.tree_spec import TreeDoc, TreeError
+from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
+from executive.tree_yaml import read_yaml
+from navcore.types import Twist
+
+__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "to_xml",
+           "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
+
+TREES_DIR = Path(__file__).resolve().parent.parent / "trees"
+SHIPPED_TREES = ("move_base", "nav2", "smach_recovery", "near_goal_reconfigure")
+
+# Keys the shipped trees read or write; the executive may touch them through LoadedTree.
+MISSION_KEYS = ("goal", "goals", "goal_update", "path", "cmd_vel", "compute_path_error_code",
+                "compute_path_error_msg", "follow_path_error_code", "follow_path_error_msg",
+                "spin_error_code", "backup_error_code", "drive_on_heading_error_code",
+                "temporary_goal_error_code", "temporary_goal", "back_off_error_code",
+                "pose_history", "set_parameters_error_msg")
+
+
+@dataclass
+class LoadedTree:
+    """A built tree: the py_trees root and manager, its namespace and where it came from."""
+
+    root: py_trees.behaviour.Behaviour
+    tree: py_trees.trees.BehaviourTree
+    namespace: str
+    source: str
+    main_tree: str
+    doc: TreeDoc
+
+    def key(self, name: str) -> str:
+        """Absolute blackboard key of a mission-level key (e.g. ``goal``)."""
+        return namespaced(self.namespace, name)
+
+    def _client(self) -> py_trees.blackboard.Client:
+        client = getattr(self, "_bb", None)
+        if client is None:
+            client = py_trees.blackboard.Client(name=f"executive{self.namespace}",
+                                                namespace=self.namespace)
+            for k in MISSION_KEYS:
+                client.register_key(key=k, access=Access.WRITE)
+            self._bb = client
+        return client
+
+    def set(self, name: str, value: Any) -> None:
+        """Write a mission-level blackboard key (``goal``, ``goals``, ...)."""
+        self._register(name).set(name, value)
+
+    def get(self, name: str, default: Any = None) -> Any:
+        """Read a mission-level blackboard key, ``default`` if unset."""
+        client = self._register(name)
+        return client.get(name) if client.exists(name) else default
+
+    def unset(self, name: str) -> None:
+        self._register(name).unset(name)
+
+    def _register(self, name: str) -> py_trees.blackboard.Client:
+        client = self._client()
+        if not client.is_registered(name):
+            client.register_key(key=name, access=Access.WRITE)
+        return client
+
+    def setup(self, **components: Any) -> None:
+        """``tree.setup(**components)``: the keys of behaviors/components.py."""
+        self.tree.setup(**components)
+
+    def tick(self) -> Twist:
+        """Tick once and return the ``cmd_vel`` written during this tick (zero if none)."""
+        self.unset("cmd_vel")
+        self.tree.tick()
+        cmd = self.get("cmd_vel")
+        return cmd if isinstance(cmd, Twist) else Twist.zero()
+
+    @property
+    def status(self) -> Status:
+        return self.root.status
+
+    def nodes(self) -> list[py_trees.behaviour.Behaviour]:
+        return list(self.root.iterate())
+
+    def to_xml(self) -> str:
+        return to_xml(self)
+
+
+def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool) -> LoadedTree:
+    if not namespace.startswith("/") or namespace.rstrip("/") == "":
+        raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1', "
+                        f"got {namespace!r}")
+    if main_tree is not None:
+        doc.main_tree = main_tree
+    builder = Builder(doc, namespace.rstrip("/"), from_text=xml,
+                      ignored_ports=NAV2_IGNORED if xml else frozenset())
+    tid = builder.main_tree()
+    root = builder.build(tid)
+    return LoadedTree(root=root, tree=py_trees.trees.BehaviourTree(root),
+                      namespace=namespace.rstrip("/"), source=doc.source, main_tree=tid, doc=doc)
+
+
+def load_tree(path: str | os.PathLike, namespace: str = "/mission",
+              main_tree: str | None = None) -> LoadedTree:
+    """Load a YAML tree file (with its includes), validate it and build it under ``namespace``."""
+    return _build(read_yaml(path), namespace, main_tree, xml=False)
+
+
+def load_xml(path: str | os.PathLike, namespace: str = "/mission",
+             main_tree: str | None = None) -> LoadedTree:
+    """Load a BehaviorTree.CPP v4 XML file (Nav2 dialect) into the same node classes."""
+    return _build(read_xml(path), namespace, main_tree, xml=True)
+
+
+def load_any(path: str | os.PathLike, namespace: str = "/mission") -> LoadedTree:
+    """``load_xml`` for ``.xml`` files, ``load_tree`` otherwise."""
+    return (load_xml if str(path).lower().endswith(".xml") else load_tree)(path, namespace)
+
+
+def to_xml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
+    """BehaviorTree.CPP v4 XML (one file, with TreeNodesModel) that Groot2 opens."""
+    if isinstance(tree, LoadedTree):
+        doc, main = tree.doc, main_tree or tree.main_tree
+    else:
+        doc = tree
+        main = main_tree or doc.main_tree or next(iter(doc.trees))
+    return write_xml(doc, main, node_classes())
+
+
+def shipped_tree(name: str) -> Path:
+    """Path of a tree shipped in ``trees/`` (``move_base``, ``nav2``, ...)."""
+    path = TREES_DIR / (name if name.endswith((".yaml", ".xml")) else f"{name}.yaml")
+    if not path.exists():
+        from executive.tree_spec import did_you_mean
+        raise TreeError(f"{path}:1: no shipped tree '{name}'{did_you_mean(name, SHIPPED_TREES)}")
+    return path

@@ -1,0 +1,91 @@
+"""The parsed, not yet built form of a tree file (YAML or XML), and the loader's error type.
+
+Both readers produce a ``TreeDoc``; one builder turns it into py_trees objects, and ``to_xml``
+writes it back out. Every ``NodeSpec`` remembers ``file:line`` so that errors point at the spot.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
+
+
+class TreeError(ValueError):
+    """A tree file is not acceptable. The message reads ``file:line: NodeType: what is wrong``."""
+
+
+def did_you_mean(name: str, known: Iterable[str]) -> str:
+    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+@dataclass
+class Where:
+    file: str
+    line: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}"
+
+
+@dataclass
+class PortValue:
+    """A port as written: a ``{key}`` reference or a literal (typed from YAML, a string from XML)."""
+
+    raw: Any
+    where: Where
+
+    @property
+    def ref(self) -> str | None:
+        """The key name if this is a ``{key}`` reference, else None."""
+        if isinstance(self.raw, str):
+            m = KEY_REF.match(self.raw.strip())
+            if m:
+                return m.group(1)
+        return None
+
+    def looks_like_ref(self) -> bool:
+        return isinstance(self.raw, str) and ("{" in self.raw or "}" in self.raw)
+
+
+@dataclass
+class NodeSpec:
+    type: str
+    where: Where
+    name: str | None = None
+    ports: dict[str, PortValue] = field(default_factory=dict)
+    children: list["NodeSpec"] = field(default_factory=list)
+    has_children_key: bool = False  # 'children:' or 'child:' was written
+    subtree_id: str | None = None
+    autoremap: bool = False
+
+    def error(self, message: str, where: Where | None = None) -> TreeError:
+        return TreeError(f"{where or self.where}: {self.type}: {message}")
+
+    def take_subtree_fields(self, id_key: str = "id") -> None:
+        """For a SubTree: move ``id`` and ``_autoremap`` out of the ports."""
+        pv = self.ports.pop(id_key, None)
+        if pv is not None:
+            self.subtree_id = str(pv.raw)
+        auto = self.ports.pop("_autoremap", None)
+        if auto is not None:
+            raw = auto.raw
+            if isinstance(raw, str):
+                if raw.lower() not in ("true", "false"):
+                    raise self.error(f"'_autoremap' must be true or false, got {raw!r}", auto.where)
+                raw = raw.lower() == "true"
+            if not isinstance(raw, bool):
+                raise self.error(f"'_autoremap' must be true or false, got {raw!r}", auto.where)
+            self.autoremap = raw
+
+
+@dataclass
+class TreeDoc:
+    main_tree: str | None
+    trees: dict[str, NodeSpec]
+    tree_where: dict[str, Where]
+    source: str

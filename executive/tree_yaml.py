@@ -1,0 +1,150 @@
+"""Read a YAML tree file into a ``TreeDoc`` (safe: composed with SafeLoader, no object tags).
+
+Format (docs/trees.md)::
+
+    main_tree: Navigate            # optional when there is one tree
+    include: [recoveries.yaml]     # optional: other files whose trees become available
+    trees:
+      Navigate:
+        RecoveryNode:              # each node: a one-key mapping, type -> ports
+          number_of_retries: 6
+          children:                # controls: children; decorators: child
+            - ComputePathToPose: {goal: "{goal}", path: "{path}"}
+            - SubTree: {id: Recoveries, _autoremap: true}
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where, did_you_mean
+
+TOP_KEYS = ("main_tree", "trees", "include")
+STRUCTURE_KEYS = ("name", "children", "child")
+
+
+class _Reader:
+    def __init__(self, file: str) -> None:
+        self.file = file
+        self._constructor = yaml.SafeLoader("")
+
+    def where(self, node: yaml.Node) -> Where:
+        return Where(self.file, node.start_mark.line + 1)
+
+    def value(self, node: yaml.Node) -> Any:
+        """Plain Python value of a YAML node (SafeLoader types only)."""
+        try:
+            return self._constructor.construct_object(node, deep=True)
+        except yaml.YAMLError as e:
+            raise TreeError(f"{self.where(node)}: {e}") from None
+
+    def pairs(self, node: yaml.MappingNode, what: str) -> list[tuple[str, yaml.Node, Where]]:
+        if not isinstance(node, yaml.MappingNode):
+            raise TreeError(f"{self.where(node)}: {what} must be a mapping")
+        out, seen = [], set()
+        for k, v in node.value:
+            key = self.value(k)
+            if not isinstance(key, str):
+                raise TreeError(f"{self.where(k)}: {what}: keys must be names, got {key!r}")
+            if key in seen:
+                raise TreeError(f"{self.where(k)}: {what}: '{key}' appears twice")
+            seen.add(key)
+            out.append((key, v, self.where(k)))
+        return out
+
+    def node(self, yn: yaml.Node) -> NodeSpec:
+        """One tree node: ``Type: {ports...}``, ``Type: null`` or a bare ``Type`` string."""
+        if isinstance(yn, yaml.ScalarNode):
+            name = self.value(yn)
+            if not isinstance(name, str) or not name:
+                raise TreeError(f"{self.where(yn)}: expected a node, got {name!r}")
+            return NodeSpec(type=name, where=self.where(yn))
+        if not isinstance(yn, yaml.MappingNode) or len(yn.value) != 1:
+            n = len(yn.value) if isinstance(yn, yaml.MappingNode) else 0
+            raise TreeError(f"{self.where(yn)}: a node is a one-key mapping 'Type: {{ports}}'"
+                            + (f", this one has {n} keys (a '-' or indentation missing?)"
+                               if n > 1 else ""))
+        (type_name, body, where), = self.pairs(yn, "node")
+        spec = NodeSpec(type=type_name, where=where)
+        if isinstance(body, yaml.ScalarNode) and self.value(body) is None:
+            return spec
+        for key, vn, kwhere in self.pairs(body, type_name):
+            if key == "children":
+                spec.has_children_key = True
+                if not isinstance(vn, yaml.SequenceNode):
+                    raise spec.error("'children' must be a list of nodes", kwhere)
+                spec.children = [self.node(c) for c in vn.value]
+            elif key == "child":
+                spec.has_children_key = True
+                spec.children = [self.node(vn)]
+            elif key == "name":
+                spec.name = str(self.value(vn))
+            else:
+                if isinstance(vn, (yaml.MappingNode, yaml.SequenceNode)) and _holds_nodes(vn):
+                    raise spec.error(f"port '{key}' holds nodes; use 'children:' or 'child:'",
+                                     kwhere)
+                spec.ports[key] = PortValue(self.value(vn), kwhere)
+        if spec.type == "SubTree":
+            spec.take_subtree_fields("id")
+        return spec
+
+
+def _holds_nodes(n: yaml.Node) -> bool:
+    items = n.value if isinstance(n, yaml.SequenceNode) else []
+    return any(isinstance(i, yaml.MappingNode) and len(i.value) == 1
+               and isinstance(i.value[0][1], yaml.MappingNode)
+               and any(isinstance(k, yaml.ScalarNode) and k.value in ("children", "child")
+                       for k, _ in i.value[0][1].value)
+               for i in items)
+
+
+def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
+    """Parse ``path`` and, recursively, its includes into one TreeDoc."""
+    file = str(path)
+    real = os.path.realpath(file)
+    if real in _stack:
+        chain = " -> ".join(os.path.basename(s) for s in (*_stack, real))
+        raise TreeError(f"{file}:1: include cycle: {chain}")
+    try:
+        text = Path(file).read_text(encoding="utf-8")
+    except OSError as e:
+        raise TreeError(f"{file}:1: cannot read tree file: {e.strerror}") from None
+    try:
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.MarkedYAMLError as e:
+        line = e.problem_mark.line + 1 if e.problem_mark else 1
+        raise TreeError(f"{file}:{line}: not valid YAML: {e.problem}") from None
+    if root is None:
+        raise TreeError(f"{file}:1: empty tree file")
+    r = _Reader(file)
+    doc = TreeDoc(main_tree=None, trees={}, tree_where={}, source=file)
+    includes: list[tuple[str, Where]] = []
+    for key, vn, where in r.pairs(root, "tree file"):
+        if key == "main_tree":
+            doc.main_tree = str(r.value(vn))
+        elif key == "include":
+            items = vn.value if isinstance(vn, yaml.SequenceNode) else [vn]
+            includes += [(str(r.value(i)), r.where(i)) for i in items]
+        elif key == "trees":
+            for tid, body, twhere in r.pairs(vn, "trees"):
+                doc.trees[tid] = r.node(body)
+                doc.tree_where[tid] = twhere
+        else:
+            raise TreeError(f"{where}: unknown top-level key '{key}'{did_you_mean(key, TOP_KEYS)}"
+                            f"; expected {', '.join(TOP_KEYS)}")
+    for inc, where in includes:
+        target = inc if os.path.isabs(inc) else os.path.join(os.path.dirname(file), inc)
+        if not os.path.exists(target):
+            raise TreeError(f"{where}: include '{inc}' not found (looked for {target})")
+        sub = read_yaml(target, (*_stack, real))
+        for tid, spec in sub.trees.items():
+            if tid in doc.trees:
+                raise TreeError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
+                                f"{doc.tree_where[tid]}")
+            doc.trees[tid] = spec
+            doc.tree_where[tid] = sub.tree_where[tid]
+    return doc
