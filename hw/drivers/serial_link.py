@@ -54,6 +54,7 @@ class SerialDriver:
         self.connects = 0          # successful handshakes (1 + reconnects)
         self.rejected = 0          # frames the codec refused
         self.delivered = 0         # messages made available to readers
+        self.ticks = 0             # reader-loop turns while connected (tests wait on this)
         self.last_error = ""
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -141,6 +142,7 @@ class SerialDriver:
                 if data:
                     self._on_bytes(data)
                 self._on_tick(port)
+                self.ticks += 1
             except (serial.SerialException, OSError) as e:
                 self.last_error = f"{self.url}: {e}"
                 self._drop_port()
