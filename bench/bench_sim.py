@@ -1,0 +1,113 @@
+"""Benchmark of the simulator: simulated seconds per wall second.
+
+One diff-drive robot with a 720-beam laser (270 deg, 30 m) at 10 Hz and odometry at 50 Hz
+wanders the Willow Garage map (a synthetic office map when the shared data is absent), commanded
+at 20 Hz by a small reactive wanderer the way the executive would drive it. Also reported: the
+same with the IMU at 50 Hz, and the cost of one 720-beam scan.
+
+    python bench/bench_sim.py [--seconds 120] [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from hw.sim import Simulator, World  # noqa: E402
+from navcore.clock import SimClock  # noqa: E402
+from navcore.maps import load_map  # noqa: E402
+from navcore.synthetic_maps import office_map  # noqa: E402
+from navcore.types import Pose2D, Twist  # noqa: E402
+
+WILLOW = Path(__file__).resolve().parent.parent.parent / "shared" / "data" / "maps" / \
+    "willow_garage" / "willow-full-0.05.yaml"
+
+LASER = {"preset": "urg04lx", "angle_min": -2.35619449, "angle_max": 2.35619449, "beams": 720,
+         "range_max": 30.0, "scan_time": 0.1, "range_noise_stddev": 0.01,
+         "mount": [0.15, 0.0, 0.0]}
+
+
+def load_world() -> tuple[World, str]:
+    if WILLOW.exists():
+        return World(load_map(WILLOW)), "willow_garage"
+    return World(office_map(1000)), "office_1000"
+
+
+def start_pose(world: World) -> Pose2D:
+    """The free cell with the most clearance: room to wander."""
+    clear = world.clearance.astype(np.float64)
+    clear[world.grid.data != 0] = 0
+    r, c = np.unravel_index(int(np.argmax(clear)), clear.shape)
+    return Pose2D(world.origin_x + (c + 0.5) * world.resolution,
+                  world.origin_y + (r + 0.5) * world.resolution, 0.3)
+
+
+def wander(scan_ranges: np.ndarray, n: int) -> Twist:
+    """Drive ahead, turn towards the more open side when something is close in front."""
+    r = np.nan_to_num(scan_ranges, posinf=30.0)
+    front = float(np.min(r[n // 2 - n // 8:n // 2 + n // 8]))
+    if front < 0.8:
+        left = float(np.mean(r[n // 2:]))
+        right = float(np.mean(r[:n // 2]))
+        return Twist(0.0, 0.0, 1.0 if left > right else -1.0)
+    return Twist(min(0.6, 0.4 * front), 0.0, 0.0)
+
+
+def run(world: World, seconds: float, imu: bool, seed: int = 0) -> tuple[float, Simulator]:
+    clock = SimClock()
+    robot = {"laser": LASER, "imu": {"enabled": imu}, "odom_rate": 50.0}
+    sim = Simulator(world, robot, clock, np.random.default_rng(seed), start=start_pose(world))
+    n = len(sim.config.laser.angles)
+    period = 0.05
+    steps = int(round(seconds / period))
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        scan = sim.laser.scan()
+        sim.base.send(wander(scan.ranges, n))
+        clock.advance(period)
+        sim.step()
+        sim.base.odometry()
+    wall = time.perf_counter() - t0
+    return seconds / wall, sim
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=120.0, help="simulated seconds per run")
+    ap.add_argument("--json", action="store_true", help="print a JSON line of figures last")
+    args = ap.parse_args()
+    world, name = load_world()
+    run(world, 2.0, True)  # compile and warm the caches
+    factor, sim = run(world, args.seconds, imu=False)
+    factor_imu, _ = run(world, args.seconds, imu=True)
+    # one scan alone
+    p = sim.true_pose()
+    reps = 300
+    t0 = time.perf_counter()
+    for _ in range(reps):
+        sim._publish_scan()
+    scan_ms = (time.perf_counter() - t0) / reps * 1e3
+    travelled = sim._st[12]
+    print(f"map {name} {world.grid.width}x{world.grid.height} @ {world.resolution} m, "
+          f"{args.seconds:.0f} s simulated, laser 720 beams @ 10 Hz, odometry @ 50 Hz")
+    print(f"  realtime factor          {factor:8.0f} x   (goal > 500)")
+    print(f"  realtime factor with IMU {factor_imu:8.0f} x")
+    print(f"  one 720-beam scan        {scan_ms:8.3f} ms")
+    print(f"  wandered {travelled:.1f} m, {len(sim.contacts)} contacts, ends at "
+          f"({p.x:.2f}, {p.y:.2f})")
+    if args.json:
+        print(json.dumps({"sim_realtime_factor": round(factor, 1),
+                          "sim_realtime_factor_with_imu": round(factor_imu, 1),
+                          "sim_scan_720_ms": round(scan_ms, 4)}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,277 @@
+"""Rigid-body physics of the simulated base, as numba kernels.
+
+One call of ``physics_steps`` advances the robot by n fixed steps: the wheel velocity tracks the
+command within the acceleration limits, faults and slip turn wheel motion into (less) body motion,
+and the body moves along exact arcs in sub-steps small enough that no footprint point moves more
+than half a map cell between collision checks, so the robot cannot tunnel through a one-cell wall
+or a thin object. A sub-step that would overlap something is not taken: the robot stops there
+and the contact is reported.
+
+The state lives in one float64 array (indices below) so that the Python side stays thin.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from navcore.raycast import segment_blocked
+
+# state vector indices
+X, Y, TH = 0, 1, 2            # true pose in map
+VX, VY, WZ = 3, 4, 5          # wheel (motor) body velocity, tracks the command
+OX, OY, OTH = 6, 7, 8         # noise-free wheel-odometry pose (integrates what the wheels did)
+AVX, AVY, AWZ = 9, 10, 11     # actual body velocity (after slip, faults and contacts)
+DIST, ROT = 12, 13            # wheel distance and rotation so far (battery drain)
+STATE_SIZE = 14
+
+# limits vector indices
+L_ACC_X, L_ACC_Y, L_ACC_TH, L_MAX_X, L_MAX_Y, L_MAX_TH, L_OMNI, L_SEP, L_STEP, L_RMAX = range(10)
+LIMITS_SIZE = 10
+
+# fault vector indices: F_SLIP fraction of wheel motion lost; F_NOROT 1 = body cannot yaw;
+# F_STUCK 0 none, 1 left wheel stuck, 2 right wheel stuck
+F_SLIP, F_NOROT, F_STUCK = 0, 1, 2
+FAULTS_SIZE = 3
+
+# contact info indices
+C_FIRST, C_X, C_Y, C_TH, C_LAST, C_SPEED = range(6)
+CONTACT_SIZE = 6
+
+
+@njit(cache=True)
+def _wrap(a: float) -> float:
+    if -math.pi < a <= math.pi:
+        return a
+    a = (a + math.pi) % (2.0 * math.pi)  # Python semantics in numba: result in [0, 2 pi)
+    if a == 0.0:
+        return math.pi
+    return a - math.pi
+
+
+@njit(cache=True)
+def arc(x: float, y: float, th: float, vx: float, vy: float, wz: float, dt: float
+        ) -> tuple[float, float, float]:
+    """Pose after moving with constant body twist (vx, vy, wz) for dt: the exact circular arc."""
+    a = wz * dt
+    if abs(a) < 1e-9:
+        lx = vx * dt - 0.5 * vy * a * dt
+        ly = vy * dt + 0.5 * vx * a * dt
+    else:
+        s = math.sin(a)
+        c1 = 1.0 - math.cos(a)
+        lx = (vx * s - vy * c1) / wz
+        ly = (vx * c1 + vy * s) / wz
+    c = math.cos(th)
+    sn = math.sin(th)
+    return x + c * lx - sn * ly, y + sn * lx + c * ly, th + a
+
+
+@njit(cache=True)
+def _seg_point_dist2(ax: float, ay: float, bx: float, by: float, px: float, py: float) -> float:
+    ex = bx - ax
+    ey = by - ay
+    L = ex * ex + ey * ey
+    u = 0.0 if L == 0.0 else ((px - ax) * ex + (py - ay) * ey) / L
+    u = min(max(u, 0.0), 1.0)
+    dx = ax + u * ex - px
+    dy = ay + u * ey - py
+    return dx * dx + dy * dy
+
+
+@njit(cache=True)
+def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> float:
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+
+
+@njit(cache=True)
+def _segments_touch(ax: float, ay: float, bx: float, by: float,
+                    cx: float, cy: float, dx: float, dy: float) -> bool:
+    d1 = _orient(cx, cy, dx, dy, ax, ay)
+    d2 = _orient(cx, cy, dx, dy, bx, by)
+    d3 = _orient(ax, ay, bx, by, cx, cy)
+    d4 = _orient(ax, ay, bx, by, dx, dy)
+    if ((d1 > 0 and d2 < 0) or (d1 < 0 and d2 > 0)) and ((d3 > 0 and d4 < 0)
+                                                         or (d3 < 0 and d4 > 0)):
+        return True
+    # touching or collinear cases: an end point lying on the other segment
+    if d1 == 0 and _seg_point_dist2(cx, cy, dx, dy, ax, ay) == 0.0:
+        return True
+    if d2 == 0 and _seg_point_dist2(cx, cy, dx, dy, bx, by) == 0.0:
+        return True
+    if d3 == 0 and _seg_point_dist2(ax, ay, bx, by, cx, cy) == 0.0:
+        return True
+    if d4 == 0 and _seg_point_dist2(ax, ay, bx, by, dx, dy) == 0.0:
+        return True
+    return False
+
+
+@njit(cache=True)
+def _inside(fp: np.ndarray, px: float, py: float) -> bool:
+    """Even-odd point-in-polygon for a point in the footprint's own frame."""
+    n = fp.shape[0]
+    inside = False
+    j = n - 1
+    for i in range(n):
+        yi = fp[i, 1]
+        yj = fp[j, 1]
+        if (yi > py) != (yj > py):
+            xc = fp[i, 0] + (py - yi) * (fp[j, 0] - fp[i, 0]) / (yj - yi)
+            if px < xc:
+                inside = not inside
+        j = i
+    return inside
+
+
+@njit(cache=True)
+def footprint_hits(fp: np.ndarray, x: float, y: float, th: float, blocked: np.ndarray,
+                   ox: float, oy: float, res: float, circles: np.ndarray,
+                   segments: np.ndarray) -> bool:
+    """True when the footprint polygon at pose (x, y, th) overlaps a blocked map cell, a circle
+    or a segment. Map cells are checked along the outline only: the robot moves in sub-steps of
+    at most half a cell from a free pose, so a cell can only get inside across the outline."""
+    n = fp.shape[0]
+    c = math.cos(th)
+    s = math.sin(th)
+    for i in range(n):
+        j = (i + 1) % n
+        ax = x + c * fp[i, 0] - s * fp[i, 1]
+        ay = y + s * fp[i, 0] + c * fp[i, 1]
+        bx = x + c * fp[j, 0] - s * fp[j, 1]
+        by = y + s * fp[j, 0] + c * fp[j, 1]
+        if segment_blocked(blocked, ox, oy, res, ax, ay, bx, by):
+            return True
+        for k in range(circles.shape[0]):
+            r = circles[k, 2]
+            if _seg_point_dist2(ax, ay, bx, by, circles[k, 0], circles[k, 1]) <= r * r:
+                return True
+        for k in range(segments.shape[0]):
+            if _segments_touch(ax, ay, bx, by, segments[k, 0], segments[k, 1],
+                               segments[k, 2], segments[k, 3]):
+                return True
+    # objects wholly inside the outline
+    for k in range(circles.shape[0]):
+        dx = circles[k, 0] - x
+        dy = circles[k, 1] - y
+        if _inside(fp, c * dx + s * dy, -s * dx + c * dy):
+            return True
+    for k in range(segments.shape[0]):
+        dx = segments[k, 0] - x
+        dy = segments[k, 1] - y
+        if _inside(fp, c * dx + s * dy, -s * dx + c * dy):
+            return True
+    return False
+
+
+@njit(cache=True)
+def _approach(v: float, target: float, step: float) -> float:
+    if target > v + step:
+        return v + step
+    if target < v - step:
+        return v - step
+    return target
+
+
+@njit(cache=True)
+def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt: float,
+                  lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
+                  blocked: np.ndarray, ox: float, oy: float, res: float, circles: np.ndarray,
+                  segments: np.ndarray, contact: np.ndarray) -> None:
+    """Advance ``st`` by ``n_steps`` steps of ``dt``; ``cmd`` (vx, vy, wz) holds for the first
+    ``n_cmd`` of them (then the command has timed out: target zero). ``contact`` receives the
+    first and last step with a blocked motion (-1: none), the pose and speed of the first."""
+    contact[C_FIRST] = -1.0
+    contact[C_LAST] = -1.0
+    omni = lim[L_OMNI] > 0.5
+    half = 0.5 * lim[L_SEP]
+    keep = 1.0 - faults[F_SLIP]
+    stuck = int(faults[F_STUCK])
+    for k in range(n_steps):
+        if k < n_cmd:
+            tvx = min(max(cmd[0], -lim[L_MAX_X]), lim[L_MAX_X])
+            tvy = min(max(cmd[1], -lim[L_MAX_Y]), lim[L_MAX_Y]) if omni else 0.0
+            twz = min(max(cmd[2], -lim[L_MAX_TH]), lim[L_MAX_TH])
+        else:
+            tvx = 0.0
+            tvy = 0.0
+            twz = 0.0
+        st[VX] = _approach(st[VX], tvx, lim[L_ACC_X] * dt)
+        st[VY] = _approach(st[VY], tvy, lim[L_ACC_Y] * dt)
+        st[WZ] = _approach(st[WZ], twz, lim[L_ACC_TH] * dt)
+        wvx = st[VX]
+        wvy = st[VY]
+        wwz = st[WZ]
+        if stuck != 0:
+            vl = wvx - wwz * half
+            vr = wvx + wwz * half
+            if stuck == 1:
+                vl = 0.0
+            else:
+                vr = 0.0
+            wvx = 0.5 * (vl + vr)
+            wwz = (vr - vl) / lim[L_SEP]
+        avx = wvx * keep
+        avy = wvy * keep
+        awz = 0.0 if faults[F_NOROT] > 0.5 else wwz * keep
+        x = st[X]
+        y = st[Y]
+        th = st[TH]
+        frac = 1.0
+        hit = False
+        moving = avx != 0.0 or avy != 0.0 or awz != 0.0
+        if moving or check_idle:
+            disp = (math.hypot(avx, avy) + abs(awz) * lim[L_RMAX]) * dt
+            nsub = max(1, int(math.ceil(disp / lim[L_STEP])))
+            h = dt / nsub
+            for j in range(nsub):
+                nx, ny, nth = arc(x, y, th, avx, avy, awz, h)
+                if footprint_hits(fp, nx, ny, nth, blocked, ox, oy, res, circles, segments):
+                    hit = True
+                    # bisect the blocked sub-step so that the body stops touching, not short
+                    lo = 0.0
+                    hi = h
+                    for _ in range(10):
+                        mid = 0.5 * (lo + hi)
+                        mx, my, mth = arc(x, y, th, avx, avy, awz, mid)
+                        if footprint_hits(fp, mx, my, mth, blocked, ox, oy, res, circles,
+                                          segments):
+                            hi = mid
+                        else:
+                            lo = mid
+                    if lo > 0.0:
+                        x, y, th = arc(x, y, th, avx, avy, awz, lo)
+                    frac = (j * h + lo) / dt
+                    break
+                x = nx
+                y = ny
+                th = nth
+        st[X] = x
+        st[Y] = y
+        st[TH] = _wrap(th)
+        # the wheels turned (and the encoders counted) until the body was stopped
+        wx, wy, wth = arc(st[OX], st[OY], st[OTH], wvx, wvy, wwz, dt * frac)
+        st[OX] = wx
+        st[OY] = wy
+        st[OTH] = _wrap(wth)
+        st[DIST] += math.hypot(wvx, wvy) * dt * frac
+        st[ROT] += abs(wwz) * dt * frac
+        if hit:
+            if contact[C_FIRST] < 0.0:
+                contact[C_FIRST] = k
+                contact[C_X] = x
+                contact[C_Y] = y
+                contact[C_TH] = st[TH]
+                contact[C_SPEED] = math.hypot(avx, avy)
+            contact[C_LAST] = k
+            st[VX] = 0.0
+            st[VY] = 0.0
+            st[WZ] = 0.0
+            st[AVX] = 0.0
+            st[AVY] = 0.0
+            st[AWZ] = 0.0
+        else:
+            st[AVX] = avx
+            st[AVY] = avy
+            st[AWZ] = awz

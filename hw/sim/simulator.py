@@ -1,0 +1,415 @@
+"""The simulated robot behind the ``hw`` interfaces: a deterministic world you can script.
+
+``Simulator(world, robot, clock, rng)`` owns one robot in a ``World``. ``step_to(t)`` runs fixed
+physics steps up to time t in chunks that end wherever something happens (a sensor is due, a
+fault starts or ends, an object appears); each chunk is one numba call. ``base``, ``laser`` and
+``imu`` implement ``hw.interfaces.Base``, ``Laser`` and ``ImuSensor``. Randomness comes only from
+``rng``, time only from step counting, so one seed gives one trace.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from hw.interfaces import BaseEvents, BatteryState
+from hw.sim import physics as ph
+from hw.sim.config import RobotConfig, robot_config
+from hw.sim.faults import Fault, fault_from_mapping
+from hw.sim.sensors import noisy_odometry_step, scan_ranges
+from hw.sim.world import World
+from navcore.clock import Clock
+from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, angle_diff, normalize_angle
+
+_EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact that began at ``time`` with the body at ``pose`` moving at ``speed`` m/s."""
+
+    time: float
+    pose: Pose2D
+    speed: float
+
+
+def _ceil_step(x: float) -> int:
+    return int(math.ceil(x - _EPS))
+
+
+class SimBase:
+    """``hw.interfaces.Base`` of the simulator."""
+
+    def __init__(self, sim: Simulator) -> None:
+        self._sim = sim
+
+    def send(self, cmd: Twist) -> None:
+        """Command a body velocity from the next physics step on; a non-finite command is a
+        stop (counted in ``Simulator.rejected_commands``)."""
+        self._sim._command(cmd)
+
+    def odometry(self) -> Odometry | None:
+        return self._sim._odom_msg
+
+    def battery(self) -> BatteryState | None:
+        return self._sim._battery_state()
+
+    def events(self) -> BaseEvents:
+        return BaseEvents(bumper=self._sim.bumper_pressed())
+
+
+class SimLaser:
+    """``hw.interfaces.Laser`` of the simulator; ``config`` holds the resolved header values."""
+
+    def __init__(self, sim: Simulator) -> None:
+        self._sim = sim
+        self.config = sim.config.laser
+        self.mount: Pose2D = self.config.mount
+
+    def scan(self) -> LaserScan | None:
+        return self._sim._scan_msg
+
+
+class SimImu:
+    """``hw.interfaces.ImuSensor`` of the simulator."""
+
+    def __init__(self, sim: Simulator) -> None:
+        self._sim = sim
+        self.mount: Pose2D = sim.config.imu_mount
+
+    def imu(self) -> Imu | None:
+        return self._sim._imu_msg
+
+
+class Simulator:
+    """One robot in a ``World``.
+
+    ``robot`` is a plain dict (see ``hw.sim.config``) or a ``RobotConfig``; ``start`` the initial
+    true pose in ``map``. The odometry frame starts at the robot (odometry pose (0, 0, 0)). Sensors
+    publish at time ``clock.now()`` of construction and then at their own rates; readers return
+    the newest message.
+    """
+
+    def __init__(self, world: World, robot: Mapping[str, Any] | RobotConfig | None,
+                 clock: Clock, rng: np.random.Generator, start: Pose2D = Pose2D()) -> None:
+        if not isinstance(world, World):
+            raise TypeError(f"Simulator: world must be a hw.sim.World, got {type(world).__name__}")
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError("Simulator: rng must be a numpy.random.Generator (seeded), got "
+                            f"{type(rng).__name__}")
+        self.world = world
+        self.config = robot if isinstance(robot, RobotConfig) else robot_config(robot)
+        self.clock = clock
+        self.rng = rng
+        b = self.config.base
+        self._dt = float(b.physics_period)
+        self._t0 = float(clock.now())
+        self._step = 0
+        self._st = np.zeros(ph.STATE_SIZE)
+        self._st[ph.X], self._st[ph.Y], self._st[ph.TH] = start.x, start.y, start.theta
+        fp = self.config.footprint
+        self._fp = np.ascontiguousarray(fp, dtype=np.float64)
+        rmax = float(np.max(np.hypot(fp[:, 0], fp[:, 1])))
+        lim = np.zeros(ph.LIMITS_SIZE)
+        lim[ph.L_ACC_X], lim[ph.L_ACC_Y], lim[ph.L_ACC_TH] = b.acc_lim_x, b.acc_lim_y, \
+            b.acc_lim_theta
+        lim[ph.L_MAX_X], lim[ph.L_MAX_Y], lim[ph.L_MAX_TH] = b.max_vel_x, b.max_vel_y, \
+            b.max_vel_theta
+        lim[ph.L_OMNI] = 1.0 if b.kinematics == "omni" else 0.0
+        lim[ph.L_SEP] = b.wheel_separation
+        # no point of the body moves more than this between two collision checks
+        lim[ph.L_STEP] = min(0.5 * world.resolution, 0.025)
+        lim[ph.L_RMAX] = rmax
+        self._lim = lim
+        self._omni = b.kinematics == "omni"
+        self._alphas = (b.odom_alpha1, b.odom_alpha2, b.odom_alpha3, b.odom_alpha4,
+                        b.odom_alpha5)
+        self._cmd = np.zeros(3)
+        self._cmd_until = 0  # first step at which the current command has timed out
+        self._timeout_steps = max(1, _ceil_step(b.cmd_vel_timeout / self._dt))
+        self._contact = np.zeros(ph.CONTACT_SIZE)
+        self._faultv = np.zeros(ph.FAULTS_SIZE)
+        self._faults: list[Fault] = []
+        self.contacts: list[Contact] = []
+        self._last_blocked = -math.inf  # time of the last blocked motion
+        self.rejected_commands = 0
+        # odometry
+        self._odom_pose = Pose2D()
+        self._wheel_prev = (0.0, 0.0, 0.0)
+        self._odom_msg: Odometry | None = None
+        self._odom_k = 0
+        self._odom_period = 1.0 / b.odom_rate
+        self._next_odom = 0
+        # laser
+        lc = self.config.laser
+        self._scan_msg: LaserScan | None = None
+        self._scan_k = 0
+        self._next_scan = 0 if lc is not None else None
+        if lc is not None:
+            self._scan_period = 1.0 / lc.rate
+            self._beams = np.ascontiguousarray(lc.angles)
+            self._no_return = math.inf if lc.no_return_inf else lc.range_max
+            self._zero_noise = np.zeros(len(lc.angles))
+        # imu
+        ic = self.config.imu
+        self._imu_msg: Imu | None = None
+        self._imu_k = 0
+        self._next_imu = 0 if ic is not None else None
+        if ic is not None:
+            self._imu_period = 1.0 / ic.rate
+            self._imu_yaw = normalize_angle(start.theta + self.config.imu_mount.theta)
+            self._imu_prev = (start.theta, 0.0, 0.0, self._t0)  # yaw, vx, vy, time
+        self.base = SimBase(self)
+        self.laser = SimLaser(self) if lc is not None else None
+        self.imu = SimImu(self) if ic is not None else None
+        self._publish_due()
+
+    # ----------------------------------------------------------------- time and stepping
+    @property
+    def time(self) -> float:
+        """Simulated time of the physics state (a whole number of physics periods)."""
+        return self._t0 + self._step * self._dt
+
+    def step(self) -> None:
+        """Step up to the clock's current time."""
+        self.step_to(self.clock.now())
+
+    def step_to(self, t: float) -> None:
+        """Run physics steps until the next one would pass time ``t``; publish sensors on time."""
+        dt = self._dt
+        target = int(math.floor((t - self._t0) / dt + _EPS))
+        world = self.world
+        while self._step < target:
+            s = self._step
+            now = self._t0 + s * dt
+            end = min(target, self._next_odom)
+            if self._next_scan is not None:
+                end = min(end, self._next_scan)
+            if self._next_imu is not None:
+                end = min(end, self._next_imu)
+            boundary = min(world.next_change(now), self._next_fault_change(now))
+            if boundary < math.inf:
+                end = min(end, max(s + 1, _ceil_step((boundary - self._t0) / dt)))
+            moving = world.has_moving(now)
+            if moving:
+                end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
+            self._update_fault_vector(now)
+            circles, segments = world.shapes_at(now)
+            n_cmd = self._cmd_until - s
+            if self._battery_fraction() <= 0.0:
+                n_cmd = 0  # a flat battery: the motors stop
+            ph.physics_steps(self._st, self._cmd, n_cmd, end - s, dt, self._lim, self._faultv,
+                             moving, self._fp, world.blocked, world.origin_x, world.origin_y,
+                             world.resolution, circles, segments, self._contact)
+            if self._contact[ph.C_FIRST] >= 0.0:
+                first_t = now + (float(self._contact[ph.C_FIRST]) + 1) * dt
+                if first_t - self._last_blocked > self.config.base.bumper_hold + _EPS:
+                    c = self._contact
+                    self.contacts.append(Contact(first_t, Pose2D(float(c[ph.C_X]), float(c[ph.C_Y]),
+                                                                 float(c[ph.C_TH])),
+                                                 float(c[ph.C_SPEED])))
+                self._last_blocked = now + (float(self._contact[ph.C_LAST]) + 1) * dt
+            self._step = end
+            self._publish_due()
+
+    # ----------------------------------------------------------------- commands and faults
+    def _command(self, cmd: Twist) -> None:
+        v = (cmd.vx, cmd.vy, cmd.wz)
+        if not all(isinstance(c, (int, float)) and math.isfinite(c) for c in v):
+            self.rejected_commands += 1
+            v = (0.0, 0.0, 0.0)
+        self._cmd[0], self._cmd[1], self._cmd[2] = v
+        self._cmd_until = self._step + self._timeout_steps
+
+    def add_fault(self, fault: Fault | Mapping[str, Any]) -> Fault:
+        """Schedule a fault (a ``Fault`` or a scenario mapping, see ``hw.sim.faults``)."""
+        f = fault if isinstance(fault, Fault) else fault_from_mapping(fault)
+        self._faults.append(f)
+        return f
+
+    def inject(self, kind: str, start: float, duration: float = math.inf,
+               **params: Any) -> Fault:
+        """``add_fault(Fault(kind, start, duration, **params))``."""
+        return self.add_fault(Fault(kind, start, duration, **params))
+
+    def add_faults(self, faults: Iterable[Fault | Mapping[str, Any]]) -> list[Fault]:
+        return [self.add_fault(f) for f in faults]
+
+    def fault_active(self, kind: str, t: float | None = None) -> Fault | None:
+        """The first fault of ``kind`` active at t (default: now), else None."""
+        t = self.time if t is None else t
+        for f in self._faults:
+            if f.kind == kind and f.active(t):
+                return f
+        return None
+
+    def _next_fault_change(self, t: float) -> float:
+        nxt = math.inf
+        for f in self._faults:
+            for b in (f.start, f.end):
+                if t < b < nxt:
+                    nxt = b
+        return nxt
+
+    def _update_fault_vector(self, t: float) -> None:
+        fv = self._faultv
+        fv[:] = 0.0
+        fv[ph.F_SLIP] = self.config.base.wheel_slip
+        for f in self._faults:
+            if not f.active(t):
+                continue
+            if f.kind == "odom_slip":
+                fv[ph.F_SLIP] = max(fv[ph.F_SLIP], f.slip)
+            elif f.kind == "blocked_rotation":
+                fv[ph.F_NOROT] = 1.0
+            elif f.kind == "stuck_wheel":
+                fv[ph.F_STUCK] = 1.0 if f.wheel == "left" else 2.0
+
+    # ----------------------------------------------------------------- ground truth
+    def true_pose(self) -> Pose2D:
+        """Ground-truth pose of base_link in ``map``."""
+        st = self._st
+        return Pose2D(float(st[ph.X]), float(st[ph.Y]), float(st[ph.TH]))
+
+    def true_velocity(self) -> Twist:
+        """The body's actual velocity (what the world saw, not what the wheels claim)."""
+        st = self._st
+        return Twist(float(st[ph.AVX]), float(st[ph.AVY]), float(st[ph.AWZ]))
+
+    def set_pose(self, pose: Pose2D, stop: bool = True) -> bool:
+        """Teleport the robot (a kidnapping: odometry does not see it). Returns whether the body
+        now overlaps something; it stays put until moved out of it."""
+        st = self._st
+        st[ph.X], st[ph.Y], st[ph.TH] = pose.x, pose.y, normalize_angle(pose.theta)
+        if stop:
+            for i in (ph.VX, ph.VY, ph.WZ, ph.AVX, ph.AVY, ph.AWZ):
+                st[i] = 0.0
+            self._cmd[:] = 0.0
+        return self.overlapping()
+
+    def overlapping(self) -> bool:
+        """Whether the footprint overlaps the map or an object at the current true pose."""
+        w = self.world
+        c, s = w.shapes_at(self.time)
+        st = self._st
+        return bool(ph.footprint_hits(self._fp, st[ph.X], st[ph.Y], st[ph.TH], w.blocked,
+                                      w.origin_x, w.origin_y, w.resolution, c, s))
+
+    def bumper_pressed(self) -> bool:
+        return self.time - self._last_blocked <= self.config.base.bumper_hold + _EPS
+
+    def in_collision(self) -> bool:
+        """The bumper is pressed or the body overlaps something (RobotIO of the executive)."""
+        return self.bumper_pressed() or self.overlapping()
+
+    # ----------------------------------------------------------------- sensors
+    def _publish_due(self) -> None:
+        s = self._step
+        if s == self._next_odom:
+            self._publish_odom()
+            self._odom_k += 1
+            self._next_odom = _ceil_step(self._odom_k * self._odom_period / self._dt)
+        if self._next_scan is not None and s == self._next_scan:
+            self._publish_scan()
+            self._scan_k += 1
+            self._next_scan = _ceil_step(self._scan_k * self._scan_period / self._dt)
+        if self._next_imu is not None and s == self._next_imu:
+            self._publish_imu()
+            self._imu_k += 1
+            self._next_imu = _ceil_step(self._imu_k * self._imu_period / self._dt)
+
+    def _publish_odom(self) -> None:
+        st = self._st
+        wheel = (float(st[ph.OX]), float(st[ph.OY]), float(st[ph.OTH]))
+        if self._odom_msg is None:
+            self._odom_msg = Odometry(self.time, self._odom_pose, Twist())
+            self._wheel_prev = wheel
+            return
+        if any(a > 0.0 for a in self._alphas):
+            normals = self.rng.standard_normal(3)
+        else:
+            normals = np.zeros(3)
+        prev = self._odom_pose
+        pose = noisy_odometry_step(prev, self._wheel_prev, wheel, self._alphas, self._omni,
+                                   normals)
+        period = self.time - self._odom_msg.stamp
+        d = pose.relative_to(prev)
+        twist = Twist(d.x / period, d.y / period, d.theta / period)
+        a1, a2, a3, a4, a5 = self._alphas
+        t2 = (d.x * d.x + d.y * d.y)
+        r2 = d.theta * d.theta
+        var_t = (a3 * t2 + a4 * r2) / (period * period)
+        var_r = (a1 * r2 + a2 * t2) / (period * period)
+        var_s = (a4 * r2 + a5 * t2) / (period * period) if self._omni else 1e-9
+        self._odom_pose = pose
+        self._wheel_prev = wheel
+        self._odom_msg = Odometry(self.time, pose, twist,
+                                  pose_covariance=np.diag([1e-3, 1e-3, 1e-3]),
+                                  twist_covariance=np.diag([var_t + 1e-9, var_s, var_r + 1e-9]))
+
+    def laser_pose(self) -> Pose2D:
+        """True pose of the laser frame in ``map``."""
+        return self.true_pose().compose(self.config.laser.mount)
+
+    def _publish_scan(self) -> None:
+        lc = self.config.laser
+        now = self.time
+        if self.fault_active("laser_dropout", now):
+            return
+        if self.fault_active("laser_frozen", now) and self._scan_msg is not None:
+            old = self._scan_msg
+            ranges = old.ranges.copy()
+        else:
+            p = self.laser_pose()
+            noise = (self.rng.normal(0.0, lc.range_noise_stddev, len(self._beams))
+                     if lc.range_noise_stddev > 0 else self._zero_noise)
+            ranges = np.empty(len(self._beams), np.float32)
+            w = self.world
+            circles, segments = w.shapes_at(now)
+            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, p.x, p.y, p.theta,
+                        self._beams, lc.range_max, circles, segments, noise, self._no_return,
+                        ranges)
+        self._scan_msg = LaserScan(now, lc.angle_min, lc.angle_max, lc.angle_increment,
+                                   lc.time_increment, lc.scan_time, lc.range_min, lc.range_max,
+                                   ranges)
+
+    def _publish_imu(self) -> None:
+        ic = self.config.imu
+        st = self._st
+        now = self.time
+        yaw0, vx0, vy0, t0 = self._imu_prev
+        dt = now - t0
+        n = self.rng.standard_normal(3)
+        n = [float(v) for v in n]
+        rate = float(st[ph.AWZ]) + ic.gyro_bias + ic.gyro_noise_stddev * n[0]
+        ax = ay = 0.0
+        if dt > 0:
+            # the gyro's yaw is the integral of what it measured: true turn + bias + noise
+            self._imu_yaw = normalize_angle(self._imu_yaw + angle_diff(float(st[ph.TH]), yaw0)
+                                            + (ic.gyro_bias + ic.gyro_noise_stddev * n[0]) * dt)
+            ax = (float(st[ph.AVX]) - vx0) / dt - float(st[ph.AVY]) * float(st[ph.AWZ])
+            ay = (float(st[ph.AVY]) - vy0) / dt + float(st[ph.AVX]) * float(st[ph.AWZ])
+        ax += ic.accel_noise_stddev * n[1]
+        ay += ic.accel_noise_stddev * n[2]
+        m = self.config.imu_mount.theta
+        c, s = math.cos(m), math.sin(m)
+        self._imu_prev = (float(st[ph.TH]), float(st[ph.AVX]), float(st[ph.AVY]), now)
+        var = ic.gyro_noise_stddev ** 2
+        self._imu_msg = Imu(now, self._imu_yaw, rate, c * ax + s * ay, -s * ax + c * ay,
+                            yaw_variance=max(var * max(now - self._t0, dt), 1e-9),
+                            angular_velocity_variance=var)
+
+    # ----------------------------------------------------------------- battery
+    def _battery_fraction(self) -> float:
+        bp = self.config.battery
+        used = (bp.idle_power_w * (self.time - self._t0) + bp.drive_energy_j_per_m
+                * self._st[ph.DIST] + bp.turn_energy_j_per_rad * self._st[ph.ROT])
+        return max(0.0, bp.initial_percentage - float(used) / (bp.capacity_wh * 3600.0))
+
+    def _battery_state(self) -> BatteryState:
+        bp = self.config.battery
+        f = self._battery_fraction()
+        return BatteryState(bp.voltage_empty + f * (bp.voltage_full - bp.voltage_empty), f)
