@@ -1,0 +1,117 @@
+"""Benchmark the global planners: navfn and global_planner corner to corner.
+
+Maps: ``navcore.synthetic_maps.office_map(n)`` for n = 1000, 2000, 4000 (0.05 m cells), lethal
+where occupied, unknown where unknown, inflated as in the C++ baselines of
+ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, cost_scaling_factor
+10), start (45, 45), goal (n-45, n-45); plus the Willow Garage map between the two free cells
+farthest apart along the diagonal. Each figure is the median of several full ``make_plan`` calls
+after a warm-up (numba compiled and cached). ``--json`` prints one JSON object as the last line.
+
+    python bench/bench_planners.py [--json] [--sizes 1000 2000 4000] [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from pathlib import Path as FsPath
+
+import numpy as np
+
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.maps import load_map
+from navcore.planners import GlobalPlanner, NavFn
+from navcore.synthetic_maps import office_map
+from navcore.types import Pose2D
+
+# C++ makePlan figures measured on this kind of machine (ros_navigation_internals.md 8.1, 8.2)
+CPP_MS = {"navfn": {1000: 29.9, 2000: 134.0, 4000: 701.0},
+          "global_planner": {1000: 41.0, 2000: 188.0, 4000: 889.0},
+          "global_planner_astar_grid": {1000: 1.3, 2000: 4.7, 4000: 36.0}}
+
+
+def costmap_from_grid(data: np.ndarray, resolution: float, origin: tuple[float, float]) -> Costmap2D:
+    """Lethal where occupied, unknown where -1, inflated (inscribed 0.2, radius 0.55, csf 10)."""
+    cm = Costmap2D(data.shape[1], data.shape[0], resolution, origin[0], origin[1])
+    cm.costs[data >= 65] = 254
+    cm.costs[data < 0] = 255
+    try:
+        from navcore.costmap.inflation import cost_table, inflate
+    except ImportError:  # inflation not available yet: plain lethal/unknown map
+        return cm
+    inflate(cm.costs, cost_table(resolution, 0.2, 0.55, 10.0))
+    return cm
+
+
+def clock_ms(fn, repeat: int) -> float:
+    fn()  # warm-up (JIT cache load, buffer allocation)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append((time.perf_counter() - t0) * 1e3)
+    return statistics.median(times)
+
+
+def willow_endpoints(cm: Costmap2D) -> tuple[Pose2D, Pose2D]:
+    """Free cells nearest the lower-left and upper-right corners of the map's free area."""
+    free = np.argwhere(cm.costs == 0)
+    s = free[np.argmin(free[:, 0] + free[:, 1])]
+    g = free[np.argmax(free[:, 0] + free[:, 1])]
+    to_pose = lambda c: Pose2D(*cm.map_to_world(int(c[1]), int(c[0])), 0.0)  # noqa: E731
+    return to_pose(s), to_pose(g)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="print a JSON object as the last line")
+    ap.add_argument("--sizes", type=int, nargs="+", default=[1000, 2000, 4000])
+    ap.add_argument("--repeat", type=int, default=5)
+    args = ap.parse_args(argv)
+    out: dict[str, float] = {}
+    for n in args.sizes:
+        g = office_map(n)
+        cm = costmap_from_grid(g.data, g.resolution, (g.origin.x, g.origin.y))
+        start = Pose2D(*cm.map_to_world(45, 45), 0.0)
+        goal = Pose2D(*cm.map_to_world(n - 45, n - 45), 0.0)
+        planners = {"navfn": NavFn(cm), "global_planner": GlobalPlanner(cm),
+                    "global_planner_astar_grid": GlobalPlanner(cm, {"use_dijkstra": False,
+                                                                    "use_grid_path": True})}
+        for name, planner in planners.items():
+            r = planner.make_plan(start, goal)
+            if not r.ok:
+                print(f"{name} {n}: FAILED ({r.reason})", file=sys.stderr)
+                continue
+            ms = clock_ms(lambda: planner.make_plan(start, goal), args.repeat)
+            out[f"{name}_{n}_ms"] = round(ms, 2)
+            cpp = CPP_MS[name].get(n)
+            print(f"{name:26s} {n:5d}^2  {ms:8.2f} ms  (C++ {cpp} ms, x{cpp / ms:.2f})  "
+                  f"path {len(r.path)} poses {r.path.length():.1f} m  "
+                  f"updates/cell {planner.last_updates / (n * n):.2f}")
+    root = FsPath(__file__).resolve().parents[1]
+    for cand in (root.parent / "shared" / "data", root / ".." / "shared" / "data"):
+        y = cand / "maps" / "willow_garage" / "willow-full-0.05.yaml"
+        if y.exists():
+            m = load_map(str(y))
+            cm = costmap_from_grid(m.data, m.resolution, (m.origin.x, m.origin.y))
+            start, goal = willow_endpoints(cm)
+            for name, planner in (("navfn", NavFn(cm)), ("global_planner", GlobalPlanner(cm))):
+                r = planner.make_plan(start, goal)
+                if not r.ok:
+                    print(f"{name} willow: FAILED ({r.reason})", file=sys.stderr)
+                    continue
+                ms = clock_ms(lambda: planner.make_plan(start, goal), args.repeat)
+                out[f"{name}_willow_ms"] = round(ms, 2)
+                print(f"{name:26s} willow {cm.size_x}x{cm.size_y}  {ms:8.2f} ms  "
+                      f"path {r.path.length():.1f} m")
+            break
+    if args.json:
+        print(json.dumps(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,55 @@
+"""Helpers shared by the grid planners: validation, goal tolerance search, failure diagnosis."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.planners.wavefront import POT_HIGH
+from navcore.types import Pose2D
+
+
+def finite_pose(p: Pose2D) -> bool:
+    return all(math.isfinite(v) for v in (p.x, p.y, p.theta))
+
+
+def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, tolerance: float
+                     ) -> tuple[float, float] | None:
+    """navfn's goal tolerance: sample the square of half-side ``tolerance`` around the goal in
+    ``resolution`` steps and return the sample closest to the goal whose cell has a potential."""
+    res = costmap.resolution
+    n = int(math.floor((2.0 * tolerance) / res + 1e-9)) + 1 if tolerance > 0.0 else 1
+    offs = -tolerance + res * np.arange(n)
+    offs = offs[offs <= tolerance + 1e-12]
+    px = goal.x + offs
+    py = goal.y + offs
+    gx, gy = np.meshgrid(px, py)
+    mx = np.floor((gx - costmap.origin_x) / res).astype(np.int64)
+    my = np.floor((gy - costmap.origin_y) / res).astype(np.int64)
+    inside = ((gx >= costmap.origin_x) & (gy >= costmap.origin_y) & (mx < costmap.size_x)
+              & (my < costmap.size_y))
+    if not inside.any():
+        return None
+    p = np.full(gx.shape, np.inf)
+    p[inside] = pot[my[inside] * costmap.size_x + mx[inside]]
+    ok = p < POT_HIGH
+    if not ok.any():
+        return None
+    d2 = np.where(ok, (gx - goal.x) ** 2 + (gy - goal.y) ** 2, np.inf)
+    k = int(np.argmin(d2))  # first minimum in row-major order, as the C++ loops find it
+    return float(gx.flat[k]), float(gy.flat[k])
+
+
+def diagnose(pot: np.ndarray, passable: np.ndarray, nx: int, ny: int, start_cell: tuple[int, int],
+             goal_cell: tuple[int, int] | None) -> str:
+    """Why no plan: the goal cell impassable, the start boxed in, or no connection."""
+    if goal_cell is not None and not passable[goal_cell[1], goal_cell[0]]:
+        return "goal_occupied"
+    sx, sy = start_cell
+    reached_any = False
+    for x, y in ((sx - 1, sy), (sx + 1, sy), (sx, sy - 1), (sx, sy + 1)):
+        if 0 < x < nx - 1 and 0 < y < ny - 1 and pot[y * nx + x] < POT_HIGH:
+            reached_any = True
+    return "no_path" if reached_any else "start_occupied"

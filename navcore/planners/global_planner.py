@@ -1,0 +1,208 @@
+"""global_planner: navfn's successor with Dijkstra or A*, quadratic or plain updates, gradient or
+grid paths, and orientation modes (ROS ``global_planner/GlobalPlanner``).
+
+The cost of a cell is ``min(cost * cost_factor + neutral_cost, lethal_cost - 1)`` for costs below
+``lethal_cost - 1`` (and unknown when ``allow_unknown``), else impassable. With the default
+``old_navfn_behavior`` false, start and goal are fractional cells (``(w - origin)/res - 0.5``), the
+wave is seeded over the 2x2 block around the start, the 5x5 around the goal is given potential
+(``clearEndpoint``) and world points are ``origin + (cell + 0.5) * res``.
+
+Differences from the C++, on purpose: A* is an exact A* on the same wavefront (the C++ assigns a
+cell once and never improves it, so its paths are not least-cost), Dijkstra runs until the goal's
+potential is final, no queue cap, buffers reused, the shared costmap is never written
+(``outline_map`` and the robot-cell clearing act on the planner's view only), and
+``default_tolerance`` is honoured (the C++ declares it and ignores it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.costmap.cost_values import NO_INFORMATION
+from navcore.params import Param, Parameters
+from navcore.planners.common import diagnose, finite_pose, search_tolerance
+from navcore.planners.orientation import apply_orientation
+from navcore.planners.result import PlanResult
+from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
+from navcore.planners.wavefront import (HEURISTIC_EUCLIDEAN, HEURISTIC_MANHATTAN, HEURISTIC_NONE,
+                                        POT_HIGH, Workspace, propagate, reset_buffers)
+from navcore.types import Path, Pose2D
+
+GLOBAL_PLANNER_PARAMS = (
+    Param("allow_unknown", True, bool, "plan through unknown cells"),
+    Param("default_tolerance", 0.0, float, "m: when the goal is unreachable, plan to the reachable "
+          "point closest to it within this square half-side", min=0.0),
+    Param("use_dijkstra", True, bool, "Dijkstra wavefront; false: A*"),
+    Param("use_quadratic", True, bool, "navfn's quadratic (planar-wave) potential; false: "
+          "min(4 neighbours) + cost"),
+    Param("use_grid_path", False, bool, "path by 8-neighbour steepest descent; false: gradient"),
+    Param("old_navfn_behavior", False, bool, "integer start/goal cells, corner world points, "
+          "single-cell seed, no goal clearing (navfn's conventions)"),
+    Param("lethal_cost", 253, int, "cost value treated as impassable (and above)", min=1, max=255),
+    Param("neutral_cost", 50, int, "cost of a free cell", min=1, max=255),
+    Param("cost_factor", 3.0, float, "multiplies the costmap value before adding neutral_cost",
+          min=0.01, max=5.0),
+    Param("orientation_mode", 1, int, "0 None, 1 Forward, 2 Interpolate, 3 ForwardThenInterpolate, "
+          "4 Backward, 5 Leftward, 6 Rightward", min=0, max=6),
+    Param("orientation_window_size", 1, int, "poses either side used for Forward-type headings",
+          min=1),
+    Param("outline_map", True, bool, "treat the map's outer border as lethal (the wavefront "
+          "never enters the border either way: its 4-cell stencil needs all neighbours)"),
+    Param("publish_potential", True, bool, "return the potential grid with each plan"),
+    Param("visualize_potential", False, bool, "same as publish_potential (navfn's name)"),
+    Param("publish_scale", 100, int, "accepted for ROS files (potential display scale)", min=1,
+          max=100),
+    Param("planner_window_x", 0.0, float, "m: declared by ROS, unused there and here"),
+    Param("planner_window_y", 0.0, float, "m: declared by ROS, unused there and here"),
+)
+
+
+def global_planner_cost_table(lethal_cost: int, neutral_cost: int, cost_factor: float,
+                              allow_unknown: bool) -> np.ndarray:
+    """``DijkstraExpansion::getCost`` for every costmap value, as a 256-entry float32 table."""
+    v = np.arange(256, dtype=np.float64)
+    out = np.full(256, float(lethal_cost), np.float32)
+    ok = v < lethal_cost - 1
+    if allow_unknown:
+        ok[NO_INFORMATION] = True
+    out[ok] = np.minimum(v[ok] * cost_factor + neutral_cost, lethal_cost - 1).astype(np.float32)
+    return out
+
+
+def _endpoint_potential(pot: np.ndarray, n: int, nx: int, cost: float, quadratic: bool) -> float:
+    l, r, u, d = (float(pot[n - 1]), float(pot[n + 1]), float(pot[n - nx]), float(pot[n + nx]))
+    tc, ta = min(l, r), min(u, d)
+    if not quadratic:
+        return min(tc, ta) + cost
+    dc = tc - ta
+    if dc < 0:
+        dc, ta = -dc, tc
+    if dc >= cost:
+        return ta + cost
+    q = dc / cost
+    return ta + cost * (-0.2301 * q * q + 0.5307 * q + 0.7040)
+
+
+class GlobalPlanner:
+    """ROS global_planner; ``make_plan(start, goal)`` never raises."""
+
+    def __init__(self, costmap: Costmap2D, params: dict | None = None) -> None:
+        self.costmap = costmap
+        self.params = Parameters(GLOBAL_PLANNER_PARAMS, params, where="GlobalPlanner")
+        self._ws = Workspace()
+        self.last_updates = 0
+
+    def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
+        """A path from ``start`` to ``goal`` (map frame), or the reason there is none."""
+        try:
+            return self._make_plan(start, goal)
+        except Exception as exc:  # the control loop gets a reason, never an exception
+            return PlanResult.failure(f"planner_error: {type(exc).__name__}: {exc}")
+
+    def _to_map(self, w: Pose2D) -> tuple[float, float] | None:
+        cm = self.costmap
+        c = cm.world_to_map(w.x, w.y)
+        if c is None:
+            return None
+        if self.params.old_navfn_behavior:
+            return float(c[0]), float(c[1])
+        return ((w.x - cm.origin_x) / cm.resolution - 0.5, (w.y - cm.origin_y) / cm.resolution - 0.5)
+
+    def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
+        if not (finite_pose(start) and finite_pose(goal)):
+            return PlanResult.failure("invalid_pose")
+        cm, p = self.costmap, self.params
+        s = self._to_map(start)
+        if s is None:
+            return PlanResult.failure("start_outside_map")
+        g = self._to_map(goal)
+        if g is None:
+            return PlanResult.failure("goal_outside_map")
+        sc = cm.world_to_map(start.x, start.y)
+        gc = cm.world_to_map(goal.x, goal.y)
+        nx, ny = cm.size_x, cm.size_y
+        ws = self._ws
+        ws.ensure(nx, ny)
+        reset_buffers(ws.pot, ws.pending, nx, ny)
+        lethal, neutral = p.lethal_cost, p.neutral_cost
+        lut = global_planner_cost_table(lethal, neutral, p.cost_factor, p.allow_unknown)
+        costs = np.ascontiguousarray(cm.costs).reshape(-1)
+        sx, sy = s
+        k = int(sy) * nx + int(sx)
+        if p.old_navfn_behavior:
+            seeds, seed_pots = [k], [0.0]
+            pushes = [k + 1, k - 1, k - nx, k + nx]
+        else:
+            dx = np.floor((sx - int(sx)) * 100 + 0.5) / 100
+            dy = np.floor((sy - int(sy)) * 100 + 0.5) / 100
+            two_n = 2.0 * neutral
+            seeds = [k, k + 1, k + nx, k + nx + 1]
+            seed_pots = [two_n * dx * dy, two_n * (1 - dx) * dy, two_n * dx * (1 - dy),
+                         two_n * (1 - dx) * (1 - dy)]
+            pushes = [k + 2, k - 1, k + nx - 1, k + nx + 2, k - nx, k - nx + 1, k + 2 * nx,
+                      k + 2 * nx + 1]
+        target = int(g[1]) * nx + int(g[0])
+        if p.use_dijkstra:
+            hkind, hscale = HEURISTIC_NONE, 0.0
+        elif p.use_quadratic:
+            # a quadratic update raises potential by >= 0.704 of a cell cost per cell: scaled so,
+            # the straight-line heuristic stays consistent and the goal's potential exact
+            hkind, hscale = HEURISTIC_EUCLIDEAN, 0.704 * neutral
+        else:
+            hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
+        reached, self.last_updates, _ = propagate(
+            costs, lut, float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b, ws.buf_c,
+            np.array(seeds, np.int64), np.array(seed_pots, np.float32),
+            np.array(pushes, np.int64), target, float(lethal), float(2 * neutral), 2 * nx * ny,
+            p.use_quadratic, hkind, hscale)
+        publish = p.publish_potential or p.visualize_potential
+        potential = ws.pot.reshape(ny, nx) if publish else None
+        passable = lut[cm.costs] < lethal
+        goal_pose = goal
+        if not reached:
+            best = search_tolerance(cm, ws.pot, goal, p.default_tolerance) \
+                if p.default_tolerance > 0.0 else None
+            if best is None:
+                return PlanResult.failure(diagnose(ws.pot, passable, nx, ny, sc, gc), potential)
+            goal_pose = Pose2D(best[0], best[1], goal.theta)
+            g = self._to_map(goal_pose)
+            gc = cm.world_to_map(goal_pose.x, goal_pose.y)
+        if not p.old_navfn_behavior:
+            self._clear_endpoint(costs, ws.pot, gc, nx, ny)
+        if p.use_grid_path:
+            ok, xy = grid_path(ws.pot, nx, ny, g[0], g[1], sx, sy, 4 * nx * ny)
+        else:
+            ok, xy = gradient_path(ws.pot, nx, ny, g[0], g[1], STOP_NEAR_POINT, sx, sy,
+                                   4 * nx * ny, float(lethal), ws.gradx, ws.grady)
+        if not ok or len(xy) == 0:
+            return PlanResult.failure("no_path", potential)
+        off = 0.0 if p.old_navfn_behavior else 0.5
+        pts = xy[::-1]
+        if not p.old_navfn_behavior and len(pts) > 1:
+            pts = pts[:-1]  # the descent began exactly at the goal, which is appended below
+        poses = np.zeros((len(pts) + 1, 3))
+        poses[:-1, 0] = cm.origin_x + (pts[:, 0] + off) * cm.resolution
+        poses[:-1, 1] = cm.origin_y + (pts[:, 1] + off) * cm.resolution
+        poses[-1] = (goal_pose.x, goal_pose.y, goal_pose.theta)
+        apply_orientation(poses, start, p.orientation_mode, p.orientation_window_size)
+        return PlanResult(True, Path(poses), "", potential)
+
+    def _clear_endpoint(self, costs: np.ndarray, pot: np.ndarray, gc: tuple[int, int], nx: int,
+                        ny: int) -> None:
+        """Give unreached cells in the 5x5 around the goal a potential (``clearEndpoint``)."""
+        gx, gy = gc
+        neutral = self.params.neutral_cost
+        for j in range(-2, 3):
+            for i in range(-2, 3):
+                x, y = gx + i, gy + j
+                if not (1 <= x < nx - 1 and 1 <= y < ny - 1):
+                    continue
+                n = y * nx + x
+                if pot[n] < POT_HIGH:
+                    continue
+                # the C++ hands cost + neutral to an unsigned char parameter: it wraps at 256
+                c = float((int(costs[n]) + neutral) & 0xFF)
+                if c <= 0.0:
+                    continue
+                pot[n] = np.float32(_endpoint_potential(pot, n, nx, c, self.params.use_quadratic))

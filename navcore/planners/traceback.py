@@ -1,0 +1,247 @@
+"""Path extraction from a potential field (numba kernels).
+
+``gradient_path`` is navfn's ``calcPath`` / global_planner's ``GradientPath``: descend the
+bilinearly interpolated, normalised gradient in half-cell steps, falling back to a step to the
+lowest 8-neighbour next to unreached cells or when the path oscillates. ``grid_path`` is
+global_planner's ``GridPath``: steepest descent over the 8 neighbours.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from navcore.planners.wavefront import POT_HIGH
+
+PATH_STEP = 0.5  # cells per gradient step (navfn pathStep)
+STOP_NEAR_NEUTRAL = 0  # navfn: stop where the potential drops below COST_NEUTRAL
+STOP_NEAR_POINT = 1  # global_planner: stop within half a cell of the seed point
+
+_INT_MIN = -2147483648.0
+
+
+@njit(cache=True, inline="always")
+def _round_half_away(v: float) -> int:
+    return int(math.floor(v + 0.5)) if v >= 0.0 else -int(math.floor(-v + 0.5))
+
+
+@njit(cache=True, inline="always")
+def _int_trunc(v: float) -> float:
+    """C++ float -> int conversion on x86: truncation, INT_MIN when out of range."""
+    if v >= 2147483648.0 or v < -2147483648.0:
+        return _INT_MIN
+    return float(int(v))
+
+
+@njit(cache=True)
+def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, gradx: np.ndarray,
+               grady: np.ndarray, touched: np.ndarray, ntouched: int) -> int:
+    """Unit descent direction at cell n into the caches; returns the new touched count."""
+    if gradx[n] + grady[n] > 0.0:  # the C++ cache test (a cached gradient with sum <= 0 recomputes)
+        return ntouched
+    if n < nx or n > ns - nx:
+        return ntouched
+    cv = pot[n]
+    dx = 0.0
+    dy = 0.0
+    if cv >= POT_HIGH:  # inside an obstacle: head for a reached neighbour
+        if pot[n - 1] < POT_HIGH:
+            dx = -obs_grad
+        elif pot[n + 1] < POT_HIGH:
+            dx = obs_grad
+        if pot[n - nx] < POT_HIGH:
+            dy = -obs_grad
+        elif pot[n + nx] < POT_HIGH:
+            dy = obs_grad
+    else:
+        if pot[n - 1] < POT_HIGH:
+            dx += pot[n - 1] - cv
+        if pot[n + 1] < POT_HIGH:
+            dx += cv - pot[n + 1]
+        if pot[n - nx] < POT_HIGH:
+            dy += pot[n - nx] - cv
+        if pot[n + nx] < POT_HIGH:
+            dy += cv - pot[n + nx]
+    norm = math.hypot(dx, dy)
+    if norm > 0.0:
+        gradx[n] = np.float32(dx / norm)
+        grady[n] = np.float32(dy / norm)
+        touched[ntouched] = n
+        ntouched += 1
+    return ntouched
+
+
+@njit(cache=True)
+def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float,
+                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float,
+                  gradx: np.ndarray, grady: np.ndarray) -> tuple:
+    """Descend from (from_x, from_y) (cells, fractional allowed) to the seed at (to_x, to_y).
+
+    Returns ``(ok, xy)`` with ``xy`` an (N, 2) float64 array of cell coordinates from the start of
+    the descent to the seed. ``gradx``/``grady`` are all-zero caches and are left all-zero.
+    """
+    ns = nx * ny
+    stc = int(from_y) * nx + int(from_x)
+    dx = from_x - int(from_x)
+    dy = from_y - int(from_y)
+    cap = 1024
+    xs = np.empty(cap, np.float64)
+    ys = np.empty(cap, np.float64)
+    npath = 0
+    touched = np.empty(64, np.int64)
+    ntouched = 0
+    ok = False
+    for _ in range(max_steps):
+        if npath + 1 >= cap:
+            cap *= 2
+            xs2 = np.empty(cap, np.float64)
+            ys2 = np.empty(cap, np.float64)
+            xs2[:npath] = xs[:npath]
+            ys2[:npath] = ys[:npath]
+            xs = xs2
+            ys = ys2
+        if touched.shape[0] - ntouched < 8:
+            t2 = np.empty(touched.shape[0] * 2, np.int64)
+            t2[:ntouched] = touched[:ntouched]
+            touched = t2
+        px = stc % nx + dx
+        py = stc // nx + dy
+        if stop_mode == STOP_NEAR_NEUTRAL:
+            near = stc + _round_half_away(dx) + nx * _round_half_away(dy)
+            near = max(0, min(ns - 1, near))
+            if pot[near] < 50.0:
+                xs[npath] = to_x
+                ys[npath] = to_y
+                npath += 1
+                ok = True
+                break
+        elif abs(px - to_x) < 0.5 and abs(py - to_y) < 0.5:
+            xs[npath] = to_x
+            ys[npath] = to_y
+            npath += 1
+            ok = True
+            break
+        if stc < nx or stc >= ns - nx:  # would read outside the grid
+            break
+        xs[npath] = px
+        ys[npath] = py
+        npath += 1
+        oscillating = npath > 2 and xs[npath - 1] == xs[npath - 3] and ys[npath - 1] == ys[npath - 3]
+        up = stc + nx
+        dn = stc - nx
+        if (pot[stc] >= POT_HIGH or pot[stc + 1] >= POT_HIGH or pot[stc - 1] >= POT_HIGH
+                or pot[up] >= POT_HIGH or pot[up + 1] >= POT_HIGH or pot[up - 1] >= POT_HIGH
+                or pot[dn] >= POT_HIGH or pot[dn + 1] >= POT_HIGH or pot[dn - 1] >= POT_HIGH
+                or oscillating):
+            # grid step to the lowest 8-neighbour; the C++ compares against an int copy
+            minc = stc
+            minp = _int_trunc(pot[stc])
+            for st in (dn - 1, dn, dn + 1, stc - 1, stc + 1, up - 1, up, up + 1):
+                if pot[st] < minp:
+                    minp = _int_trunc(pot[st])
+                    minc = st
+            stc = minc
+            dx = 0.0
+            dy = 0.0
+            if pot[stc] >= POT_HIGH:
+                break
+        else:
+            ntouched = _grad_cell(pot, stc, nx, ns, obs_grad, gradx, grady, touched, ntouched)
+            ntouched = _grad_cell(pot, stc + 1, nx, ns, obs_grad, gradx, grady, touched, ntouched)
+            ntouched = _grad_cell(pot, up, nx, ns, obs_grad, gradx, grady, touched, ntouched)
+            ntouched = _grad_cell(pot, up + 1, nx, ns, obs_grad, gradx, grady, touched, ntouched)
+            x1 = (1.0 - dx) * gradx[stc] + dx * gradx[stc + 1]
+            x2 = (1.0 - dx) * gradx[up] + dx * gradx[up + 1]
+            gx = (1.0 - dy) * x1 + dy * x2
+            y1 = (1.0 - dx) * grady[stc] + dx * grady[stc + 1]
+            y2 = (1.0 - dx) * grady[up] + dx * grady[up + 1]
+            gy = (1.0 - dy) * y1 + dy * y2
+            if gx == 0.0 and gy == 0.0:
+                break
+            ss = PATH_STEP / math.hypot(gx, gy)
+            dx += gx * ss
+            dy += gy * ss
+            if dx > 1.0:
+                stc += 1
+                dx -= 1.0
+            if dx < -1.0:
+                stc -= 1
+                dx += 1.0
+            if dy > 1.0:
+                stc += nx
+                dy -= 1.0
+            if dy < -1.0:
+                stc -= nx
+                dy += 1.0
+            if stc < 0 or stc >= ns:
+                break
+    for i in range(ntouched):
+        gradx[touched[i]] = 0.0
+        grady[touched[i]] = 0.0
+    out = np.empty((npath, 2), np.float64)
+    out[:, 0] = xs[:npath]
+    out[:, 1] = ys[:npath]
+    return ok, out
+
+
+@njit(cache=True)
+def grid_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float, to_x: float,
+              to_y: float, max_steps: int) -> tuple:
+    """Steepest 8-neighbour descent from (from_x, from_y) to the cell of (to_x, to_y).
+
+    Returns ``(ok, xy)``: the first point is (from_x, from_y), the rest are cell indices.
+    """
+    target = int(to_y) * nx + int(to_x)
+    cap = 1024
+    xs = np.empty(cap, np.float64)
+    ys = np.empty(cap, np.float64)
+    cx = from_x
+    cy = from_y
+    xs[0] = cx
+    ys[0] = cy
+    npath = 1
+    ok = True
+    steps = 0
+    while int(cy) * nx + int(cx) != target:
+        best = 1.0e10
+        bx = 0
+        by = 0
+        for xd in range(-1, 2):
+            for yd in range(-1, 2):
+                if xd == 0 and yd == 0:
+                    continue
+                x = int(cx + xd)
+                y = int(cy + yd)
+                if x < 0 or y < 0 or x >= nx or y >= ny:
+                    continue
+                v = pot[y * nx + x]
+                if v < best:
+                    best = v
+                    bx = x
+                    by = y
+        if bx == 0 and by == 0:
+            ok = False
+            break
+        cx = float(bx)
+        cy = float(by)
+        if npath >= cap:
+            cap *= 2
+            xs2 = np.empty(cap, np.float64)
+            ys2 = np.empty(cap, np.float64)
+            xs2[:npath] = xs[:npath]
+            ys2[:npath] = ys[:npath]
+            xs = xs2
+            ys = ys2
+        xs[npath] = cx
+        ys[npath] = cy
+        npath += 1
+        steps += 1
+        if steps > max_steps:
+            ok = False
+            break
+    out = np.empty((npath, 2), np.float64)
+    out[:, 0] = xs[:npath]
+    out[:, 1] = ys[:npath]
+    return ok, out
