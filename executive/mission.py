@@ -68,21 +68,19 @@ def _controller(config: RobotConfig, local_cm: Any) -> Any:
 
 def _simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: World,
                clock: Clock, rng: np.random.Generator) -> Any:
-    from hw.sim import Simulator, SimConfig
-    r = config.robot
-    sim_cfg = SimConfig(footprint=config.footprint(), kinematics=r.kinematics,
-                        laser_mount=Pose2D(*r.laser_mount), laser_range_max=r.laser_range_max,
-                        laser_fov=r.laser_fov, laser_beams=r.laser_beams)
-    sim = Simulator(grid, sim_cfg, clock, rng, start=start)
-    for s in world.objects:
+    from hw.sim import Box, Circle, MovingObstacle, Simulator
+    from hw.sim import World as SimWorld
+    objects: list[Any] = []
+    for i, s in enumerate(world.objects):
         if s.kind == "box":
-            sim.add_box(*s.values)
+            objects.append(Box(*s.values, name=f"object{i}"))
         else:
-            sim.add_circle(*s.values)
-    for m in world.moving:
-        sim.add_moving(m.radius, m.position)
-    for f in world.faults:
-        sim.schedule_fault(dict(f))
+            objects.append(Circle(*s.values, name=f"object{i}"))
+    for i, m in enumerate(world.moving):
+        objects.append(MovingObstacle(tuple(m.waypoints), speed=m.speed, radius=m.radius,
+                                      start_time=m.start_time, loop=m.loop, name=f"moving{i}"))
+    sim = Simulator(SimWorld(grid, objects), config.ns("sim"), clock, rng, start=start)
+    sim.add_faults(world.faults)
     return sim
 
 
@@ -156,7 +154,7 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
         "localizer": None,
         "parameters": config.all_parameters(),
     }
-    mount = Pose2D(*config.robot.laser_mount)
+    mount = sim.config.laser.mount if sim.config.laser is not None else Pose2D()
 
     def perceive(pose: Pose2D, scan: LaserScan | None, now: float) -> None:
         if scan is not None:

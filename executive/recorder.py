@@ -56,7 +56,9 @@ def to_jsonable(value: Any) -> Any:
     if isinstance(value, np.generic):
         return to_jsonable(value.item())
     if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value[:50]]
+        if len(value) > 8:  # long histories (pose_history) would dominate the log: summarise
+            return {"len": len(value), "last": to_jsonable(value[-1])}
+        return [to_jsonable(v) for v in value]
     if isinstance(value, dict):
         return {str(k): to_jsonable(v) for k, v in list(value.items())[:50]}
     if dataclasses.is_dataclass(value):
@@ -70,6 +72,9 @@ def subsample_path(poses: np.ndarray) -> list[list[float]]:
         idx = np.linspace(0, len(poses) - 1, MAX_PATH_POINTS).round().astype(int)
         poses = poses[idx]
     return np.round(poses[:, :2], 3).tolist()
+
+
+_ABSENT = object()
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -90,17 +95,24 @@ class BlackboardWatcher:
     def __init__(self, namespace: str) -> None:
         self.prefix = namespace.rstrip("/") + "/"
         self._last: dict[str, Any] = {}
+        self._keys: list[tuple[str, str]] = []
+        self._seen_size = -1
 
     def changes(self) -> dict[str, Any]:
         storage = py_trees.blackboard.Blackboard.storage
+        if len(storage) != self._seen_size:  # keys come and go rarely: rescan only then
+            n = len(self.prefix)
+            self._keys = [(k, k[n:]) for k in storage if k.startswith(self.prefix)]
+            self._seen_size = len(storage)
         out: dict[str, Any] = {}
-        for key, value in storage.items():
-            if not key.startswith(self.prefix):
+        last = self._last
+        for key, short in self._keys:
+            value = storage.get(key, _ABSENT)
+            if value is _ABSENT:
                 continue
-            short = key[len(self.prefix):]
-            if short in self._last and _same(self._last[short], value):
+            if short in last and _same(last[short], value):
                 continue
-            self._last[short] = value
+            last[short] = value
             out[short] = value
         return out
 
@@ -121,7 +133,7 @@ class Recorder:
         for node, depth in walk(root):
             self._nodes.append(node)
             table.append([node.name, type(node).__name__, depth])
-        self._last_status = ["INVALID"] * len(self._nodes)
+        self._last_status = [py_trees.common.Status.INVALID] * len(self._nodes)
         self._write({"header": dict(meta, nodes=table)})
 
     def node_index(self, node: py_trees.behaviour.Behaviour) -> int:
@@ -132,19 +144,24 @@ class Recorder:
 
     def status_changes(self) -> dict[str, str]:
         out: dict[str, str] = {}
+        last = self._last_status
         for i, node in enumerate(self._nodes):
-            s = node.status.name
-            if s != self._last_status[i]:
-                self._last_status[i] = s
-                out[str(i)] = s
+            s = node.status
+            if s is not last[i]:
+                last[i] = s
+                out[str(i)] = s.name
         return out
 
     def record(self, tick: int, t: float, pose: Pose2D | None, cmd: Twist,
                bb: dict[str, Any], events: list[dict[str, Any]], overrun_ms: float | None,
-               root_status: str) -> dict[str, Any]:
-        """Build (and write) one tick line; returns it so callers can keep summaries."""
-        line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status}
+               root_status: str) -> dict[str, Any] | None:
+        """Build (and write) one tick line; returns it (None without a stream: nothing to
+        serialise, only the status bookkeeping is kept)."""
         status = self.status_changes()
+        self.ticks += 1
+        if self.stream is None:
+            return None
+        line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status}
         if status:
             line["status"] = status
         if bb:
@@ -157,7 +174,6 @@ class Recorder:
         if overrun_ms is not None:
             line["overrun_ms"] = round(overrun_ms, 3)
         self._write(line)
-        self.ticks += 1
         return line
 
     def footer(self, summary: dict[str, Any]) -> None:

@@ -298,6 +298,16 @@ def scenario_from_mapping(doc: Any, source: str) -> Scenario:
     faults = doc.get("faults") or []
     if not isinstance(faults, list) or not all(isinstance(f, Mapping) for f in faults):
         raise ScenarioError(f"{source}: faults: expected a list of mappings")
+    try:
+        from hw.sim.faults import FaultError, fault_from_mapping
+    except ImportError:
+        fault_from_mapping = None
+    if fault_from_mapping is not None:
+        for i, f in enumerate(faults):
+            try:
+                fault_from_mapping(f, where=f"faults[{i}]")
+            except FaultError as e:
+                raise ScenarioError(f"{source}: {e}") from None
     robot = doc.get("robot") or {}
     params = doc.get("params") or {}
     if not isinstance(robot, Mapping) or not isinstance(params, Mapping):
