@@ -1,0 +1,359 @@
+"""DWAPlannerROS: sampling, grids, critics, goal handling and closed-loop behaviour."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from navcore.controllers import DWAPlanner, make_controller
+from navcore.controllers.critics import REJECTED, footprint_scale, score_dwa
+from navcore.controllers.map_grid import densify_plan, distance_grid, local_plan, plan_cells
+from navcore.controllers.oscillation import OscillationFlags
+from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, simulate,
+                                         velocity_iterator)
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.costmap.footprint import footprint_cost
+from navcore.params import ParameterError
+from navcore.types import Path, Pose2D, Twist
+from tests.test_controllers_support import RECT, drive, inflate, straight_path
+
+DIFF = {"max_vel_y": 0.0, "min_vel_y": 0.0}  # a differential-drive robot
+
+
+def empty_map(size: int = 120, res: float = 0.05, ox: float = -3.0, oy: float = -3.0) -> Costmap2D:
+    return Costmap2D(size, size, res, ox, oy)
+
+
+# --- building blocks ----------------------------------------------------------------------------
+
+def test_velocity_iterator_matches_ros_sampling():
+    assert velocity_iterator(0.3, 0.3, 5) == [0.3]
+    assert velocity_iterator(0.0, 0.1, 1) == [0.0, 0.1]              # at least two samples
+    s = velocity_iterator(-0.1, 0.1, 4)                               # crosses zero: 0 added
+    assert len(s) == 5 and 0.0 in s and s[0] == -0.1 and s[-1] == 0.1
+    assert velocity_iterator(-0.1, 0.1, 3) == pytest.approx([-0.1, 0.0, 0.1])  # no double zero
+
+
+def test_filter_refuses_slow_fast_and_still_samples():
+    samples = np.array([[0.05, 0.0, 0.1],   # too slow both ways -> refused
+                        [0.05, 0.0, 0.5],   # slow but turning fast enough -> kept
+                        [0.6, 0.0, 0.0],    # faster than max_vel_trans -> refused
+                        [0.3, 0.0, 0.0]])
+    kept, steps = filter_and_steps(samples, 1.7, 0.025, 0.1, 0.1, 0.4, 0.55)
+    assert kept.tolist() == [[0.05, 0.0, 0.5], [0.3, 0.0, 0.0]]
+    # steps = ceil(max(|v| T / sg, |w| T / ag))
+    assert steps.tolist() == [math.ceil(0.5 * 1.7 / 0.1), math.ceil(0.3 * 1.7 / 0.025)]
+
+
+def test_simulate_constant_arc_and_ramped_velocity():
+    samples = np.array([[0.5, 0.0, 0.5]])
+    steps = np.array([10])
+    pts, cmd = simulate(samples, steps, 1.0, 2.0, 0.0, np.zeros(3), np.array([2.5, 2.5, 3.2]),
+                        1.0, CONSTANT)
+    assert pts.shape == (1, 10, 3)
+    assert pts[0, 0].tolist() == [1.0, 2.0, 0.0]            # the start pose is the first point
+    assert pts[0, -1, 2] == pytest.approx(0.5 * 0.9)         # the final integration is not kept
+    assert cmd[0].tolist() == [0.5, 0.0, 0.5]
+    pts_r, cmd_r = simulate(samples, steps, 0.0, 0.0, 0.0, np.zeros(3),
+                            np.array([2.5, 2.5, 3.2]), 1.0, RAMPED)
+    assert cmd_r[0, 0] == pytest.approx(0.25)                # first ramped step: a * dt
+    assert np.nanmax(pts_r[0, :, 0]) < np.nanmax(pts[0, :, 0] - 1.0) + 1e-9  # slower start
+
+
+def test_distance_grid_is_4_connected_bfs_with_obstacle_and_unreachable_values():
+    costs = np.zeros((10, 10), dtype=np.uint8)
+    costs[:, 5] = 254                      # a wall splits the map
+    d = distance_grid(costs, np.array([[1, 1]]), np.zeros((0, 0), dtype=np.bool_))
+    n = 100
+    assert d[1, 1] == 0 and d[4, 4] == 6   # Manhattan distance
+    assert (d[:, 5] == n).all()            # touched obstacles read "size"
+    assert (d[:, 6:] == n + 1).all()       # the far side is unreachable: size + 1
+    passable = np.zeros((10, 10), dtype=np.bool_)
+    passable[3, 5] = True                  # a door the footprint covers
+    d2 = distance_grid(costs, np.array([[1, 1]]), passable)
+    assert d2[3, 6] == 5 + 2               # Manhattan, through the door
+
+
+def test_plan_densified_cut_and_seeded_as_ros_does():
+    dense = densify_plan(np.array([[0.0, 0.0, 0.3], [0.5, 0.0, 0.0]]), 0.05)
+    assert len(dense) == 11 and np.allclose(np.diff(dense[:, 0]), 0.05)
+    assert (dense[:-1, 2] == 0.3).all()                       # heading copied, not interpolated
+    plan = np.column_stack([np.linspace(-5, 5, 101), np.zeros(101), np.zeros(101)])
+    loc = local_plan(plan, 0.0, 0.0, 6.0)
+    assert loc[0, 0] == pytest.approx(-3.0) and loc[-1, 0] == pytest.approx(3.0)
+    costs = np.zeros((120, 120), dtype=np.uint8)
+    cells = plan_cells(costs, -3.0, -3.0, 0.05, densify_plan(loc, 0.05))
+    assert cells[0].tolist() == [0, 60] and cells[-1][0] == 119   # stops at the map border
+
+
+def test_oscillation_flags_latch_and_release():
+    f = OscillationFlags()
+    f.update(0, 0, 0, 0.2, 0, 0, 0.1, 0.05, 0.2)
+    assert not f.any()
+    f.update(0, 0, 0, -0.2, 0, 0, 0.1, 0.05, 0.2)             # forward then backward
+    assert f.active() == ["forward_neg_only"]
+    f.update(0.03, 0, 0, -0.2, 0, 0, 0.1, 0.05, 0.2)          # moved 3 cm: still latched
+    assert f.any()
+    f.update(0.06, 0, 0, -0.2, 0, 0, 0.1, 0.05, 0.2)          # 6 cm > oscillation_reset_dist
+    assert not f.any()
+    f.update(0, 0, 0, 0.0, 0, 0.5, 0.1, 0.05, 0.2)            # rotations count when not driving
+    f.update(0, 0, 0, 0.0, 0, -0.5, 0.1, 0.05, 0.2)
+    assert f.active() == ["rot_neg_only"]
+    f.update(0, 0, 0.25, 0.0, 0, -0.5, 0.1, 0.05, 0.2)        # turned 0.25 > 0.2 rad
+    assert not f.any()
+
+
+# --- closed-loop behaviour ----------------------------------------------------------------------
+
+def test_empty_corridor_drives_forward_at_the_speed_limit():
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, DIFF)
+    path = straight_path(0.0, 0.0, 20.0, 0.0)
+    pose, vel, results = drive(dwa, Pose2D(), Twist(), path, 40, cm, rolling=True)
+    assert all(r.status == "following" for _, r in results)
+    assert vel.vx == pytest.approx(dwa.params.max_vel_x)
+    assert abs(vel.wz) < 1e-9 and abs(pose.y) < 1e-6
+    # accelerates within the dynamic window: +acc_lim_x / controller_frequency per cycle at most
+    speeds = [r.cmd.vx for _, r in results]
+    assert max(np.diff([0.0] + speeds)) <= 2.5 / 20.0 + 1e-9
+
+
+def test_holonomic_sampling_uses_vy_and_differential_does_not():
+    cm = empty_map()
+    path = straight_path(0.0, 0.4, 5.0, 0.4)   # the path runs beside the robot
+    holo = DWAPlanner(cm, RECT, {"max_vel_y": 0.3, "min_vel_y": -0.3, "vy_samples": 7,
+                                 "path_distance_bias": 32.0})
+    r = holo.compute_velocity(Pose2D(), Twist(0.1, 0.0, 0.0), path)
+    assert r.status == "following"
+    assert np.unique(r.samples[:, 1]).size > 1
+    assert r.cmd.vy > 0.0                       # strafes toward the path
+    diff = DWAPlanner(cm, RECT, DIFF)
+    r2 = diff.compute_velocity(Pose2D(), Twist(0.1, 0.0, 0.0), path)
+    assert (r2.samples[:, 1] == 0.0).all()
+
+
+def _lethal_box(cm: Costmap2D, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    lethal = np.zeros(cm.costs.shape, dtype=bool)
+    mx0, my0 = cm.world_to_map_no_bounds(x0, y0)
+    mx1, my1 = cm.world_to_map_no_bounds(x1, y1)
+    lethal[max(0, my0):max(0, my1 + 1), max(0, mx0):max(0, mx1 + 1)] = True
+    return lethal
+
+
+def _never_touched(cm: Costmap2D, results: list) -> bool:
+    return all(footprint_cost(cm.costs, cm.origin_x, cm.origin_y, cm.resolution, RECT,
+                              p.x, p.y, p.theta) < 254 for p, _ in results)
+
+
+def test_obstacle_on_the_plan_stops_it_short_without_touching():
+    cm = Costmap2D(160, 100, 0.05, -1.0, -2.5)
+    inflate(cm, _lethal_box(cm, 1.5, -0.3, 1.8, 0.2))
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6))
+    path = straight_path(0.0, 0.0, 6.0, 0.0)   # the global plan runs straight through it
+    pose, _, results = drive(dwa, Pose2D(), Twist(), path, 160)
+    assert _never_touched(cm, results)
+    assert max(p.x for p, _ in results) < 1.5 - 0.25
+
+
+def test_obstacle_beside_a_detouring_plan_is_passed_without_touching():
+    cm = Costmap2D(160, 100, 0.05, -1.0, -2.5)
+    inflate(cm, _lethal_box(cm, 1.5, -0.3, 1.8, 0.2))
+    t = np.linspace(0.0, 1.0, 121)
+    xs = 6.0 * t
+    ys = 0.75 * np.exp(-((xs - 1.65) / 0.6) ** 2)          # a planner's bend around the box
+    path = Path(np.column_stack([xs, ys, np.zeros_like(xs)]))
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6))
+    pose, _, results = drive(dwa, Pose2D(), Twist(), path, 300)
+    assert _never_touched(cm, results)
+    assert max(p.y for p, _ in results) > 0.4              # it swerved
+    assert pose.x > 3.0                                     # and got past
+
+
+def test_wall_across_the_path_stops_the_robot_with_a_reason():
+    cm = empty_map()
+    inflate(cm, _lethal_box(cm, 0.45, -3.0, 0.55, 3.0))
+    dwa = DWAPlanner(cm, RECT, DIFF)
+    path = straight_path(0.0, 0.0, 2.5, 0.0)
+    pose, vel, results = drive(dwa, Pose2D(), Twist(0.3, 0.0, 0.0), path, 30)
+    assert results[-1][1].status == "no_valid_trajectory"
+    assert results[-1][1].cmd.is_zero()
+    assert "lethal" in results[-1][1].reason or "cut off" in results[-1][1].reason
+    assert pose.x < 0.45 - 0.25
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.3, 2.0), st.floats(-1.0, 1.0), st.floats(0.05, 0.4)),
+                min_size=1, max_size=4),
+       st.floats(0.0, 0.55), st.floats(-0.8, 0.8))
+def test_never_picks_a_trajectory_that_touches_a_lethal_cell(obstacles, v0, w0):
+    cm = empty_map(80, 0.05, -2.0, -2.0)
+    lethal = np.zeros(cm.costs.shape, dtype=bool)
+    for x, y, half in obstacles:
+        lethal |= _lethal_box(cm, x - half, y - half, x + half, y + half)
+    inflate(cm, lethal)
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, vth_samples=10))
+    r = dwa.compute_velocity(Pose2D(), Twist(v0, 0.0, w0), straight_path(0.0, 0.0, 3.0, 0.0))
+    if r.status != "following":
+        assert r.cmd.is_zero()
+        return
+    s = footprint_scale(r.cmd.vx, r.cmd.vy, 0.25, 0.55, 0.2)
+    for x, y, th in r.best:
+        assert footprint_cost(cm.costs, cm.origin_x, cm.origin_y, cm.resolution, RECT * s,
+                              x, y, th) < 254
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_branch_and_bound_picks_what_exhaustive_scoring_picks(seed):
+    rng = np.random.default_rng(seed)
+    cm = empty_map(80, 0.05, -2.0, -2.0)
+    lethal = rng.random(cm.costs.shape) < 0.004
+    lethal[35:45, 35:45] = False              # the robot itself stands on free cells
+    inflate(cm, lethal)
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, vx_samples=6, vth_samples=15))
+    path = Path(np.column_stack([np.linspace(0, 2, 41), 0.6 * np.sin(np.linspace(0, 3, 41)),
+                                 np.zeros(41)]))
+    dwa.set_plan(path)
+    pose, vel = Pose2D(0.0, 0.0, float(rng.uniform(-1, 1))), Twist(0.3, 0.0, 0.2)
+    local = dwa._local_plan(pose, False)
+    ctx = dwa._prepare(pose, local)
+    samples = dwa.sample_window(vel)
+    *_, s_fast, st_fast, b_fast = dwa._score(pose, vel, samples, ctx, False)
+    *_, s_full, st_full, b_full = dwa._score(pose, vel, samples, ctx, True)
+    assert b_fast == b_full
+    if b_full >= 0:
+        assert s_fast[b_fast] == pytest.approx(s_full[b_full])
+        # a pruned score is a lower bound of the full one (unless the full one rejects it)
+        pruned = (st_fast == 1) & (s_full >= 0)
+        assert (s_fast[pruned] <= s_full[pruned] + 1e-9).all()
+        assert (s_fast[pruned] > s_full[b_full]).all()
+    assert ((st_full == REJECTED) == (s_full < 0)).all()
+
+
+def _mean_path_deviation(params: dict) -> float:
+    """Closed loop along an S-shaped plan; mean distance of the robot from the plan."""
+    cm = Costmap2D(160, 160, 0.05, -1.0, -4.0)
+    t = np.linspace(0.0, 1.0, 121)
+    xs, ys = 6.0 * t, 1.2 * np.sin(2 * np.pi * t)
+    path = Path(np.column_stack([xs, ys, np.arctan2(np.gradient(ys), np.gradient(xs))]))
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, vth_samples=30, **params))
+    _, _, results = drive(dwa, Pose2D(0.0, 0.0, path.poses[0, 2]), Twist(), path, 120, cm,
+                          rolling=True)
+    dense = densify_plan(path.poses, 0.01)
+    dev = [np.min(np.hypot(dense[:, 0] - p.x, dense[:, 1] - p.y)) for p, _ in results]
+    return float(np.mean(dev))
+
+
+def test_path_distance_bias_holds_the_path_and_goal_distance_bias_loosens_it():
+    base = _mean_path_deviation({"path_distance_bias": 0.6, "goal_distance_bias": 0.8})
+    tight = _mean_path_deviation({"path_distance_bias": 32.0, "goal_distance_bias": 0.8})
+    loose = _mean_path_deviation({"path_distance_bias": 0.6, "goal_distance_bias": 20.0})
+    assert tight < base < loose
+    assert tight < 0.05
+
+
+# --- goal handling ------------------------------------------------------------------------------
+
+def test_goal_reached_needs_position_yaw_and_standstill():
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, DIFF)
+    path = straight_path(-1.0, 0.0, 0.0, 0.0)            # goal (0, 0, 0)
+    r = dwa.compute_velocity(Pose2D(0.05, 0.0, 0.05), Twist(), path)
+    assert r.status == "goal_reached" and r.cmd.is_zero() and dwa.is_goal_reached()
+    r = dwa.compute_velocity(Pose2D(0.05, 0.0, 0.05), Twist(0.3, 0.0, 0.0), path)
+    assert r.status == "rotating_to_goal" and r.cmd.is_zero() and not dwa.is_goal_reached()
+    r = dwa.compute_velocity(Pose2D(0.3, 0.0, 0.0), Twist(), path)     # 0.3 m off: not there
+    assert r.status == "following" and not dwa.is_goal_reached()
+
+
+def test_at_the_goal_position_it_brakes_then_rotates_to_the_goal_yaw():
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, DIFF)
+    path = Path(np.array([[-1.0, 0.0, 1.5], [0.0, 0.0, 1.5]]))      # goal yaw 1.5 rad
+    r = dwa.compute_velocity(Pose2D(0.02, 0.0, 0.0), Twist(0.3, 0.0, 0.0), path)
+    assert r.status == "rotating_to_goal"
+    assert r.cmd.vx == pytest.approx(0.3 - 2.5 / 20) and r.cmd.wz == 0.0   # braking
+    pose, vel, results = drive(dwa, Pose2D(0.02, 0.0, 0.0), Twist(0.1, 0.0, 0.0), path, 200)
+    assert results[-1][1].status == "goal_reached"
+    assert abs(pose.theta - 1.5) <= 0.1
+    rot = [r.cmd for _, r in results if r.cmd.wz != 0.0]
+    assert rot and all(c.vx == 0.0 and c.wz > 0.0 for c in rot)          # in place, left turn
+    assert all(abs(c.wz) >= 0.4 - 1e-9 for c in rot)                    # min_vel_theta floor
+
+
+@pytest.mark.parametrize("latch", [True, False])
+def test_latch_xy_goal_tolerance(latch):
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, latch_xy_goal_tolerance=latch))
+    path = Path(np.array([[-1.0, 0.0, 1.5], [0.0, 0.0, 1.5]]))
+    assert dwa.compute_velocity(Pose2D(0.05, 0.0, 0.0), Twist(), path).status == \
+        "rotating_to_goal"
+    r = dwa.compute_velocity(Pose2D(0.15, 0.0, 0.3), Twist(), path)   # pushed out of tolerance
+    assert r.status == ("rotating_to_goal" if latch else "following")
+    dwa.reset()                                                      # a recovery forgets it
+    assert dwa.compute_velocity(Pose2D(0.15, 0.0, 0.3), Twist(), path).status == "following"
+
+
+def test_oscillation_flags_block_the_opposite_direction_until_moved_on():
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, min_vel_x=-0.3, vx_samples=5))
+    path = straight_path(0.0, 0.0, 3.0, 0.0)
+    dwa.set_plan(path)
+    dwa.oscillation.update(0.0, 0.0, 0.0, 0.2, 0, 0, 0.1, 0.05, 0.2)
+    dwa.oscillation.update(0.0, 0.0, 0.0, -0.2, 0, 0, 0.1, 0.05, 0.2)   # it just reversed
+    r = dwa.compute_velocity(Pose2D(), Twist(0.0, 0.0, 0.0), path)
+    fwd = r.samples[:, 0] > 0
+    assert fwd.any() and (r.scores[fwd] == -5).all()                   # forward is forbidden
+    assert r.cmd.vx <= 0.0
+    r = dwa.compute_velocity(Pose2D(-0.08, 0.0, 0.0), Twist(0.0, 0.0, 0.0), path)
+    # the flag was released after moving 8 cm, so this cycle may go forward again
+    assert not dwa.oscillation.any() or r.cmd.vx > 0.0
+    r = dwa.compute_velocity(Pose2D(-0.08, 0.0, 0.0), Twist(0.0, 0.0, 0.0), path)
+    assert r.cmd.vx > 0.0
+    assert not (r.scores == -5).any()
+
+
+# --- interface ----------------------------------------------------------------------------------
+
+def test_statuses_for_missing_or_unusable_plans_and_bad_input():
+    cm = empty_map()
+    dwa = make_controller("dwa_local_planner/DWAPlannerROS", cm, RECT, DIFF)
+    r = dwa.compute_velocity(Pose2D(), Twist())
+    assert r.status == "no_plan" and r.cmd.is_zero()
+    far = straight_path(50.0, 50.0, 60.0, 50.0)
+    r = dwa.compute_velocity(Pose2D(), Twist(), far)
+    assert r.status == "no_valid_trajectory" and "local costmap" in r.reason
+    r = dwa.compute_velocity(Pose2D(float("nan"), 0.0, 0.0), Twist(), far)
+    assert r.status == "no_valid_trajectory" and "not finite" in r.reason
+    bad = Path(np.array([[0.0, 0.0, 0.0], [np.nan, 1.0, 0.0]]))
+    r = dwa.compute_velocity(Pose2D(), Twist(), bad)                 # never raises
+    assert r.status == "no_valid_trajectory" and "non-finite" in r.reason
+    with pytest.raises(ValueError, match="unknown local planner"):
+        make_controller("nope/Planner", cm, RECT, {})
+
+
+def test_parameters_are_ros_named_checked_and_live():
+    cm = empty_map()
+    with pytest.raises(ParameterError, match="did you mean 'max_vel_x'"):
+        DWAPlanner(cm, RECT, {"max_vel_xx": 1.0})
+    dwa = DWAPlanner(cm, RECT, {"restore_defaults": False})          # ROS keys with no meaning
+    assert dwa.params.sim_time == 1.7 and dwa.params.vx_samples == 3   # the .cfg defaults
+    path = straight_path(0.0, 0.0, 3.0, 0.0)
+    n1 = len(dwa.compute_velocity(Pose2D(), Twist(0.3, 0, 0), path).samples)
+    dwa.params.set({"vth_samples": 40, "max_vel_y": 0.0, "min_vel_y": 0.0})
+    n2 = len(dwa.compute_velocity(Pose2D(), Twist(0.3, 0, 0), path).samples)
+    assert n1 == 3 * 11 * 21 and n2 == 3 * 41                        # zeros inserted as in ROS
+
+
+def test_rolling_costmap_origin_is_read_every_cycle():
+    cm = empty_map()
+    dwa = DWAPlanner(cm, RECT, DIFF)
+    path = straight_path(10.0, 10.0, 14.0, 10.0)
+    assert dwa.compute_velocity(Pose2D(10.0, 10.0, 0.0), Twist(), path).status != "following"
+    cm.origin_x, cm.origin_y = 7.0, 7.0                               # the window followed
+    r = dwa.compute_velocity(Pose2D(10.0, 10.0, 0.0), Twist(), path)
+    assert r.status == "following" and r.cmd.vx > 0.0
