@@ -256,7 +256,7 @@ class TimeExpired(Condition):
         if self.status == Status.INVALID:
             self._start = now
             return Status.FAILURE
-        if now - self._start >= self.get_input("seconds"):
+        if now - self._start >= self.get_input("seconds") - 1e-9:  # float sums of periods
             self._start = now
             return Status.SUCCESS
         return Status.FAILURE

@@ -177,7 +177,7 @@ class RateController(_Timed):
         if self.status == Status.INVALID:
             self._last_ok = -math.inf
             self._last_status = Status.INVALID
-        due = hz > 0.0 and now - self._last_ok >= 1.0 / hz
+        due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
         if (self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due):
             yield from self.decorated.tick()
             self._last_status = self.decorated.status
@@ -246,7 +246,7 @@ class SpeedController(_UsesRobot):
         rate = self.rate(math.hypot(v.vx, v.vy))
         if self.status == Status.INVALID:
             self._last_status, self._last_ok = Status.INVALID, -math.inf
-        due = rate > 0.0 and now - self._last_ok >= 1.0 / rate
+        due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
         if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due:
             yield from self.decorated.tick()
             self._last_status = self.decorated.status

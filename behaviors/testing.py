@@ -1,0 +1,259 @@
+"""Scripted stand-ins for the components, for whole-tree tests without the simulator.
+
+In the style of Nav2's behaviour-tree system tests: a kinematic robot that integrates the
+commanded velocity, costmaps that count clearings and answer footprint queries from a function,
+a planner and a controller that fail on the calls you choose, and ``run_tree``, the control loop
+in miniature (tick, integrate, advance the clock). Also usable as no-op components for
+benchmarks of tree overhead.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable
+
+import numpy as np
+
+from hw.interfaces import BaseEvents, BatteryState
+from navcore.clock import SimClock
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.params import Param, Parameters
+from navcore.types import Path, Pose2D, Twist, angle_diff, normalize_angle
+
+
+class FakeRobot:
+    """A robot whose pose follows the commanded body velocity exactly (no dynamics)."""
+
+    def __init__(self, pose: Pose2D = Pose2D(), battery: BatteryState | None = None) -> None:
+        self._pose = pose
+        self._vel = Twist.zero()
+        self._battery = battery
+        self.trajectory: list[Pose2D] = [pose]
+
+    def pose(self) -> Pose2D:
+        return self._pose
+
+    def velocity(self) -> Twist:
+        return self._vel
+
+    def battery(self) -> BatteryState | None:
+        return self._battery
+
+    def events(self) -> BaseEvents:
+        return BaseEvents()
+
+    def teleport(self, pose: Pose2D) -> None:
+        self._pose = pose
+
+    def apply(self, cmd: Twist, dt: float) -> None:
+        """Integrate ``cmd`` for ``dt`` seconds (exact arc for a unicycle)."""
+        p = self._pose
+        if abs(cmd.wz) < 1e-9:
+            dx, dy = cmd.vx * dt, cmd.vy * dt
+        else:
+            r = cmd.vx / cmd.wz
+            dx, dy = r * math.sin(cmd.wz * dt), r * (1.0 - math.cos(cmd.wz * dt))
+        self._pose = p.compose(Pose2D(dx, dy, cmd.wz * dt))
+        self._vel = cmd
+        self.trajectory.append(self._pose)
+
+
+Footprint = Callable[[float, float, float], int]
+
+
+class FakeCostmap:
+    """A CostmapHandle: a free grid, a footprint-cost function, and counters of clearings."""
+
+    def __init__(self, footprint: Footprint | None = None, size_m: float = 20.0,
+                 resolution: float = 0.05, origin: float = -10.0) -> None:
+        n = int(round(size_m / resolution))
+        self.costmap = Costmap2D(n, n, resolution, origin, origin)
+        self.footprint = footprint or (lambda x, y, t: 0)
+        self.resets = 0
+        self.clear_outside_calls: list[tuple[float, float, float]] = []
+        self.clear_inside_calls: list[tuple[float, float, float]] = []
+
+    def reset_layers(self) -> None:
+        self.resets += 1
+
+    def clear_outside(self, x: float, y: float, reset_distance: float) -> None:
+        self.clear_outside_calls.append((x, y, reset_distance))
+
+    def clear_inside(self, x: float, y: float, reset_distance: float) -> None:
+        self.clear_inside_calls.append((x, y, reset_distance))
+
+    def footprint_cost(self, x: float, y: float, theta: float) -> int:
+        return int(self.footprint(x, y, theta))
+
+    @property
+    def clearings(self) -> int:
+        return self.resets + len(self.clear_outside_calls) + len(self.clear_inside_calls)
+
+
+@dataclass
+class PlanResult:
+    ok: bool
+    path: Path | None
+    reason: str = ""
+
+
+def straight_path(start: Pose2D, goal: Pose2D, step: float = 0.05) -> Path:
+    """Poses from start to goal on a straight line, heading along it, goal heading last."""
+    d = start.distance_to(goal)
+    n = max(2, int(math.ceil(d / step)) + 1)
+    heading = math.atan2(goal.y - start.y, goal.x - start.x) if d > 1e-9 else goal.theta
+    xs = np.linspace(start.x, goal.x, n)
+    ys = np.linspace(start.y, goal.y, n)
+    th = np.full(n, heading)
+    th[-1] = goal.theta
+    return Path(np.column_stack([xs, ys, th]))
+
+
+def _in(i: int, which: Iterable[int] | Callable[[int], bool] | None) -> bool:
+    if which is None:
+        return False
+    if callable(which):
+        return bool(which(i))
+    return i in which
+
+
+class ScriptedPlanner:
+    """Straight-line planner that fails on chosen calls (1-based call numbers) or always."""
+
+    def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
+                 reason: str = "no_path", fail_always: bool = False) -> None:
+        self.fail_calls = set(fail_calls) if isinstance(fail_calls, (list, tuple, set, range)) \
+            else fail_calls
+        self.reason = reason
+        self.fail_always = fail_always
+        self.calls = 0
+        self.goals: list[Pose2D] = []
+
+    def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
+        self.calls += 1
+        self.goals.append(goal)
+        if self.fail_always or _in(self.calls, self.fail_calls):
+            return PlanResult(False, None, self.reason)
+        return PlanResult(True, straight_path(start, goal))
+
+
+@dataclass
+class ControlResult:
+    cmd: Twist
+    status: str
+
+
+class ScriptedController:
+    """Turn toward the end of the plan and drive there; "no_valid_trajectory" on chosen calls.
+
+    Goal reached within ``xy_goal_tolerance``. ``parameters`` (DWAPlannerROS-like) lets
+    SetParameters be observed: ``bias_log`` records ``path_distance_bias`` at every call.
+    """
+
+    def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
+                 fail_always: bool = False, max_vel_x: float = 0.5, max_vel_theta: float = 1.0,
+                 xy_goal_tolerance: float = 0.1, parameters: Parameters | None = None) -> None:
+        self.fail_calls = set(fail_calls) if isinstance(fail_calls, (list, tuple, set, range)) \
+            else fail_calls
+        self.fail_always = fail_always
+        self.max_vel_x, self.max_vel_theta = max_vel_x, max_vel_theta
+        self.tol = xy_goal_tolerance
+        self.parameters = parameters
+        self.calls = 0
+        self.plans_set = 0
+        self.resets = 0
+        self.plan: Path | None = None
+        self._reached = False
+        self.bias_log: list[float] = []
+
+    def set_plan(self, path: Path) -> None:
+        self.plans_set += 1
+        self.plan = path
+        self._reached = False
+
+    def reset(self) -> None:
+        self.resets += 1
+        self._reached = False
+
+    def is_goal_reached(self) -> bool:
+        return self._reached
+
+    def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None
+                         ) -> ControlResult:
+        self.calls += 1
+        if self.parameters is not None and "path_distance_bias" in self.parameters:
+            self.bias_log.append(self.parameters.path_distance_bias)
+        if path is not None:
+            self.set_plan(path)
+        if self.fail_always or _in(self.calls, self.fail_calls) or self.plan is None:
+            return ControlResult(Twist.zero(), "no_valid_trajectory")
+        goal = self.plan.pose(len(self.plan) - 1)
+        d = pose.distance_to(goal)
+        if d <= self.tol:
+            self._reached = True
+            return ControlResult(Twist.zero(), "goal_reached")
+        err = angle_diff(math.atan2(goal.y - pose.y, goal.x - pose.x), pose.theta)
+        wz = max(-self.max_vel_theta, min(self.max_vel_theta, 2.0 * err))
+        vx = self.max_vel_x * max(0.0, math.cos(err)) if abs(err) < 0.8 else 0.0
+        vx = min(vx, d / 0.05 * 0.5)
+        return ControlResult(Twist(vx, 0.0, wz), "following")
+
+
+DWA_LIKE = (Param("path_distance_bias", 32.0, float, "weight of staying on the path", 0.0),
+            Param("goal_distance_bias", 24.0, float, "weight of reaching the local goal", 0.0),
+            Param("occdist_scale", 0.01, float, "weight of obstacle distance", 0.0))
+
+
+@dataclass
+class World:
+    """Everything ``tree.setup`` needs, scripted; ``components()`` gives the kwargs."""
+
+    clock: SimClock = field(default_factory=SimClock)
+    robot: FakeRobot = field(default_factory=FakeRobot)
+    local_costmap: FakeCostmap = field(default_factory=FakeCostmap)
+    global_costmap: FakeCostmap = field(default_factory=FakeCostmap)
+    planner: ScriptedPlanner = field(default_factory=ScriptedPlanner)
+    controller: ScriptedController | None = None
+    parameters: dict[str, Parameters] = field(default_factory=dict)
+    control_period: float = 0.05
+
+    def __post_init__(self) -> None:
+        if "DWAPlannerROS" not in self.parameters:
+            self.parameters["DWAPlannerROS"] = Parameters(DWA_LIKE, where="DWAPlannerROS")
+        if self.controller is None:
+            self.controller = ScriptedController(parameters=self.parameters["DWAPlannerROS"])
+
+    def components(self) -> dict[str, Any]:
+        return {"clock": self.clock, "robot": self.robot, "local_costmap": self.local_costmap,
+                "global_costmap": self.global_costmap, "planners": {"GridBased": self.planner},
+                "controllers": {"FollowPath": self.controller}, "localizer": None,
+                "parameters": self.parameters, "control_period": self.control_period}
+
+    def step(self, cmd: Twist) -> None:
+        """Apply a command for one period and advance the clock."""
+        self.robot.apply(cmd, self.control_period)
+        self.clock.advance(self.control_period)
+
+
+def run_tree(tree: Any, world: World, max_ticks: int = 5000,
+             on_tick: Callable[[int, World], None] | None = None) -> tuple[Any, int]:
+    """Tick a LoadedTree-like object (``tick() -> Twist``, ``status``) until it finishes.
+
+    Returns (final status, ticks used). ``on_tick(i, world)`` runs before each tick (to change
+    the goal, move an obstacle, ...).
+    """
+    from py_trees.common import Status
+    for i in range(max_ticks):
+        if on_tick is not None:
+            on_tick(i, world)
+        cmd = tree.tick()
+        if tree.status in (Status.SUCCESS, Status.FAILURE):
+            return tree.status, i + 1
+        world.step(cmd)
+    return tree.status, max_ticks
+
+
+__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World",
+           "run_tree", "straight_path", "PlanResult", "ControlResult", "DWA_LIKE",
+           "normalize_angle"]

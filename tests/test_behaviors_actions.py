@@ -1,0 +1,280 @@
+"""Navigation actions and recoveries against scripted components, tick by tick."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import pytest
+from py_trees.blackboard import Client
+from py_trees.common import Access, Status
+
+from behaviors.base import make
+from behaviors.error_codes import BehaviorError, ControllerError, PlannerError
+from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, straight_path
+from navcore.types import Path, Pose2D, Twist
+
+S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
+_ns = itertools.count()
+
+
+class Rig:
+    """One node, a World, and the blackboard of its namespace."""
+
+    def __init__(self, world: World | None = None):
+        self.world = world or World()
+        self.ns = f"/act{next(_ns)}"
+        self.bb = Client(name="rig", namespace=self.ns)
+
+    def node(self, node_type, **ports):
+        n = make(node_type, namespace=self.ns, **ports)
+        for m in n.iterate():
+            m.setup(**self.world.components())
+        return n
+
+    def put(self, key, value):
+        self._reg(key)
+        self.bb.set(key, value)
+
+    def get(self, key):
+        self._reg(key)
+        return self.bb.get(key) if self.bb.exists(key) else None
+
+    def _reg(self, key):
+        if not self.bb.is_registered(key):
+            self.bb.register_key(key, access=Access.WRITE)
+
+    def run(self, node, max_ticks=2000):
+        """Tick until finished, applying cmd_vel to the robot; returns (status, ticks)."""
+        for i in range(max_ticks):
+            self.put("cmd_vel", Twist.zero())
+            node.tick_once()
+            if node.status != R:
+                return node.status, i + 1
+            self.world.step(self.get("cmd_vel"))
+        return node.status, max_ticks
+
+
+def test_compute_path_to_pose_writes_path_or_error_code():
+    rig = Rig(World(planner=ScriptedPlanner(fail_calls=[2], reason="goal_occupied")))
+    rig.put("goal", Pose2D(2.0, 1.0, 0.0))
+    node = rig.node("ComputePathToPose")
+    node.tick_once()
+    assert node.status == S
+    path = rig.get("path")
+    assert isinstance(path, Path) and path.pose(len(path) - 1) == Pose2D(2.0, 1.0, 0.0)
+    assert rig.get("compute_path_error_code") == 0
+    node.tick_once()
+    assert node.status == F
+    assert rig.get("compute_path_error_code") == PlannerError.GOAL_OCCUPIED
+    bad = rig.node("ComputePathToPose", planner_id="Nope")
+    bad.tick_once()
+    assert bad.status == F and rig.get("compute_path_error_code") == PlannerError.INVALID_PLANNER
+
+
+def test_compute_path_through_poses_joins_the_legs():
+    rig = Rig()
+    rig.put("goals", [Pose2D(1.0, 0.0, 0.0), Pose2D(1.0, 1.0, 0.0)])
+    node = rig.node("ComputePathThroughPoses")
+    node.tick_once()
+    path = rig.get("path")
+    assert node.status == S and rig.world.planner.calls == 2
+    assert path.length() == pytest.approx(2.0, abs=1e-6)
+
+
+def test_follow_path_reaches_goal_and_takes_new_paths():
+    rig = Rig()
+    rig.put("path", straight_path(Pose2D(), Pose2D(2.0, 0.0, 0.0)))
+    node = rig.node("FollowPath")
+    status, n = rig.run(node)
+    assert status == S and rig.world.robot.pose().distance_to(Pose2D(2.0, 0.0, 0.0)) < 0.1
+    assert rig.get("follow_path_error_code") == 0
+    assert rig.world.controller.plans_set == 1
+    assert 70 <= n <= 82                              # 1.9 m at 0.5 m/s, 20 Hz
+
+
+def test_follow_path_failure_tolerance_and_codes():
+    ctl = ScriptedController(fail_calls=range(1, 11))   # 10 bad calls = 0.5 s
+    rig = Rig(World(controller=ctl))
+    rig.put("path", straight_path(Pose2D(), Pose2D(1.0, 0.0, 0.0)))
+    status, _ = rig.run(rig.node("FollowPath", failure_tolerance=1.0))
+    assert status == S                                  # within its patience
+    ctl2 = ScriptedController(fail_always=True)
+    rig2 = Rig(World(controller=ctl2))
+    rig2.put("path", straight_path(Pose2D(), Pose2D(1.0, 0.0, 0.0)))
+    status, n = rig2.run(rig2.node("FollowPath", failure_tolerance=1.0))
+    assert status == F and n == 21
+    assert rig2.get("follow_path_error_code") == ControllerError.PATIENCE_EXCEEDED
+    status, n = rig2.run(rig2.node("FollowPath"))
+    assert status == F and n == 1
+    assert rig2.get("follow_path_error_code") == ControllerError.NO_VALID_CONTROL
+    empty = rig2.node("FollowPath", path="{nothing}")
+    empty.tick_once()
+    assert empty.status == F and rig2.get("follow_path_error_code") == ControllerError.INVALID_PATH
+
+
+def test_follow_path_progress_checker():
+    class Crawler(ScriptedController):
+        def compute_velocity(self, pose, velocity, path=None):
+            res = super().compute_velocity(pose, velocity, path)
+            return type(res)(Twist(0.01, 0.0, 0.0), res.status)   # 1 cm/s: no progress
+
+    rig = Rig(World(controller=Crawler()))
+    rig.put("path", straight_path(Pose2D(), Pose2D(3.0, 0.0, 0.0)))
+    status, n = rig.run(rig.node("FollowPath", required_movement_radius=0.5,
+                                 movement_time_allowance=2.0))
+    assert status == F and rig.get("follow_path_error_code") == ControllerError.FAILED_TO_MAKE_PROGRESS
+    assert 40 <= n <= 45
+
+
+def test_spin_turns_within_limits_and_stops():
+    rig = Rig()
+    node = rig.node("Spin", spin_dist=1.57)
+    status, n = rig.run(node)
+    theta = rig.world.robot.pose().theta
+    assert status == S and abs(theta - 1.57) <= 0.1 + 1e-9
+    assert rig.get("spin_error_code") == BehaviorError.NONE
+    ws = [abs(t.theta - s.theta) / 0.05 for s, t in zip(rig.world.robot.trajectory,
+                                                         rig.world.robot.trajectory[1:])]
+    assert max(ws) <= 1.0 + 1e-9                                   # max_rotational_vel
+    steps = [b - a for a, b in zip(ws, ws[1:])]
+    assert max(steps) <= 3.2 * 0.05 + 1e-9                         # acceleration limit
+    assert rig.get("cmd_vel") == Twist.zero()
+
+
+def test_spin_negative_direction_and_collision_ahead():
+    rig = Rig()
+    status, _ = rig.run(rig.node("Spin", spin_dist=-1.0))
+    assert status == S and rig.world.robot.pose().theta == pytest.approx(-1.0, abs=0.1)
+
+    # lethal once the robot faces beyond +0.5 rad
+    blocked = FakeCostmap(footprint=lambda x, y, t: 254 if t > 0.5 else 0)
+    rig2 = Rig(World(local_costmap=blocked))
+    status, _ = rig2.run(rig2.node("Spin", spin_dist=1.57))
+    assert status == F and rig2.get("spin_error_code") == BehaviorError.COLLISION_AHEAD
+    assert rig2.world.robot.pose().theta < 0.5
+
+
+def test_spin_times_out():
+    class Stuck(World):
+        def step(self, cmd):
+            self.clock.advance(self.control_period)          # wheels slip: no motion
+
+    rig = Rig(Stuck())
+    status, n = rig.run(rig.node("Spin", spin_dist=1.57, time_allowance=1.0))
+    assert status == F and rig.get("spin_error_code") == BehaviorError.TIMEOUT and n in (21, 22)
+
+
+def test_backup_drives_backwards_and_stops_at_obstacle():
+    rig = Rig()
+    status, _ = rig.run(rig.node("BackUp", backup_dist=0.3, backup_speed=0.15))
+    p = rig.world.robot.pose()
+    assert status == S and p.x == pytest.approx(-0.3, abs=0.01) and abs(p.y) < 1e-9
+    wall = FakeCostmap(footprint=lambda x, y, t: 254 if x < -0.2 else 0)
+    rig2 = Rig(World(local_costmap=wall))
+    status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
+    assert status == F and rig2.get("backup_error_code") == BehaviorError.COLLISION_AHEAD
+    assert rig2.world.robot.pose().x > -0.2
+    rig3 = Rig(World(local_costmap=wall))
+    status, _ = rig3.run(rig3.node("BackUp", backup_dist=0.5, backup_speed=0.15,
+                                   disable_collision_checks=True))
+    assert status == S
+
+
+def test_drive_on_heading_and_invalid_input():
+    rig = Rig()
+    rig.world.robot.teleport(Pose2D(0.0, 0.0, math.pi / 2))
+    status, _ = rig.run(rig.node("DriveOnHeading", dist_to_travel=0.4, speed=0.2))
+    assert status == S and rig.world.robot.pose().y == pytest.approx(0.4, abs=0.01)
+    status, _ = rig.run(rig.node("DriveOnHeading", dist_to_travel=0.4, speed=-0.2))
+    assert status == F and rig.get("drive_on_heading_error_code") == BehaviorError.INVALID_INPUT
+
+
+def test_wait_on_sim_clock():
+    rig = Rig()
+    status, n = rig.run(rig.node("Wait", wait_duration=1.0))
+    assert status == S and n == 21
+
+
+def test_clear_costmap_nodes_call_the_right_maps():
+    w = World()
+    rig = Rig(w)
+    w.robot.teleport(Pose2D(1.0, 2.0, 0.0))
+    for node_type, ports in [("ClearEntireCostmap", {"costmap": "local"}),
+                             ("ClearEntireCostmap", {"costmap": "both"}),
+                             ("ClearCostmapExceptRegion", {"reset_distance": 3.0}),
+                             ("ClearCostmapAroundRobot", {"reset_distance": 0.5})]:
+        node = rig.node(node_type, **ports)
+        node.tick_once()
+        assert node.status == S
+    assert w.local_costmap.resets == 2 and w.global_costmap.resets == 1
+    assert w.local_costmap.clear_outside_calls == [(1.0, 2.0, 3.0)]
+    assert w.global_costmap.clear_outside_calls == [(1.0, 2.0, 3.0)]
+    assert w.local_costmap.clear_inside_calls == [(1.0, 2.0, 0.5)]
+
+
+def _tight_spot(x, y, t):
+    """Walls all round within 0.6 m, except an opening toward -y (y < -0.2 corridor)."""
+    r = math.hypot(x, y)
+    if r < 0.2:
+        return 200                                           # where the robot is: inflated
+    if abs(x) < 0.25 and y < 0:
+        return 50 if r > 0.8 else 150
+    return 254 if r < 2.0 else 100
+
+
+def test_temporary_goal_finds_the_opening_and_drives_there():
+    cm = FakeCostmap(footprint=_tight_spot)
+    rig = Rig(World(local_costmap=cm))
+    node = rig.node("TemporaryGoal", search_radius=1.5, min_distance=0.4)
+    status, _ = rig.run(node)
+    goal = rig.get("temporary_goal")
+    assert status == S and goal.y < -0.8 and abs(goal.x) < 0.25
+    assert rig.world.robot.pose().distance_to(goal) <= 0.15
+    assert rig.world.planner.calls >= 1
+
+
+def test_temporary_goal_fails_without_free_pose():
+    cm = FakeCostmap(footprint=lambda x, y, t: 254)
+    rig = Rig(World(local_costmap=cm))
+    status, _ = rig.run(rig.node("TemporaryGoal"))
+    assert status == F and rig.get("temporary_goal_error_code") == BehaviorError.NO_FREE_POSE
+    unreachable = Rig(World(planner=ScriptedPlanner(fail_always=True)))
+    status, n = unreachable.run(unreachable.node("TemporaryGoal", max_plans_per_tick=4))
+    assert status == F and unreachable.world.planner.calls == 6 * 16  # every candidate (6 rings 0.4..1.4 m) tried
+
+
+def test_back_off_to_previous_pose_follows_the_trail_in_reverse():
+    rig = Rig()
+    recorder = rig.node("RecordPoseHistory", spacing=0.04)
+    # drive an L: 1 m along x, then 0.5 m along y
+    robot = rig.world.robot
+    for i in range(21):
+        robot.teleport(Pose2D(0.05 * i, 0.0, 0.0))
+        recorder.tick_once()
+    for i in range(1, 11):
+        robot.teleport(Pose2D(1.0, 0.05 * i, math.pi / 2))
+        recorder.tick_once()
+    assert len(rig.get("pose_history")) == 31
+    node = rig.node("BackOffToPreviousPose", distance=0.75, speed=0.1)
+    status, _ = rig.run(node)
+    p = robot.pose()
+    assert status == S
+    assert p.distance_to(Pose2D(0.75, 0.0, 0.0)) <= 0.08 + 1e-9   # 0.5 m back up y, 0.25 along x
+    assert all(-0.05 <= q.x <= 1.05 and -0.05 <= q.y <= 0.55 for q in robot.trajectory)
+    assert math.cos(p.theta) > 0.5      # reversed round the corner: faces +x, as it came in
+
+
+def test_back_off_without_history_fails():
+    rig = Rig()
+    status, _ = rig.run(rig.node("BackOffToPreviousPose"))
+    assert status == F and rig.get("back_off_error_code") == BehaviorError.NO_POSE_HISTORY
+
+
+def test_navigate_to_pose_subtree():
+    rig = Rig()
+    rig.put("goal", Pose2D(1.5, -1.0, 0.0))
+    status, _ = rig.run(rig.node("NavigateToPose", replan_hz=1.0))
+    assert status == S
+    assert rig.world.robot.pose().distance_to(Pose2D(1.5, -1.0, 0.0)) <= 0.1
+    assert rig.world.planner.calls >= 2                            # replanned while driving
