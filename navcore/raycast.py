@@ -204,42 +204,47 @@ def clearance_field(occ: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def cast_ray_clear(clear: np.ndarray, origin_x: float, origin_y: float, resolution: float,
-                   x: float, y: float, angle: float, max_range: float) -> float:
-    """``cast_ray`` with the same exact result, on a ``clearance_field``: where the nearest blocked
-    cell is far the ray leaps ahead by a distance that provably stays clear of every blocked cell
-    (any point of a cell is within sqrt(2)/2 of its centre, so ``clearance - 1.5`` cells are
-    safe), and walks cell by cell only near obstacles."""
+def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float,
+                   t_end: float) -> float:
+    """The core of ``cast_ray_clear`` in grid units: start (gx, gy) in cells, unit direction
+    (dx, dy), range ``t_end`` in cells; returns the hit distance in cells or ``t_end``."""
     h, w = clear.shape
-    dx = math.cos(angle)
-    dy = math.sin(angle)
-    gx = (x - origin_x) / resolution
-    gy = (y - origin_y) / resolution
-    t_end = max_range / resolution
     t0 = 0.0
     t1 = t_end
-    if dx == 0.0:
-        if gx < 0.0 or gx >= w:
-            return max_range
+    if 0.0 <= gx < w and 0.0 <= gy < h:
+        # inside (the usual case): only the exit parameter is needed
+        if dx > 0.0:
+            t1 = min(t1, (w - gx) / dx)
+        elif dx < 0.0:
+            t1 = min(t1, -gx / dx)
+        if dy > 0.0:
+            t1 = min(t1, (h - gy) / dy)
+        elif dy < 0.0:
+            t1 = min(t1, -gy / dy)
     else:
-        ta = (0.0 - gx) / dx
-        tb = (w - gx) / dx
-        if ta > tb:
-            ta, tb = tb, ta
-        t0 = max(t0, ta)
-        t1 = min(t1, tb)
-    if dy == 0.0:
-        if gy < 0.0 or gy >= h:
-            return max_range
-    else:
-        ta = (0.0 - gy) / dy
-        tb = (h - gy) / dy
-        if ta > tb:
-            ta, tb = tb, ta
-        t0 = max(t0, ta)
-        t1 = min(t1, tb)
-    if t0 > t1 or t0 >= t_end:
-        return max_range
+        # clip the ray to the grid rectangle [0, w] x [0, h] (slab method)
+        if dx == 0.0:
+            if gx < 0.0 or gx >= w:
+                return t_end
+        else:
+            ta = (0.0 - gx) / dx
+            tb = (w - gx) / dx
+            if ta > tb:
+                ta, tb = tb, ta
+            t0 = max(t0, ta)
+            t1 = min(t1, tb)
+        if dy == 0.0:
+            if gy < 0.0 or gy >= h:
+                return t_end
+        else:
+            ta = (0.0 - gy) / dy
+            tb = (h - gy) / dy
+            if ta > tb:
+                ta, tb = tb, ta
+            t0 = max(t0, ta)
+            t1 = min(t1, tb)
+        if t0 > t1 or t0 >= t_end:
+            return t_end
     step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
     step_y = 1 if dy > 0.0 else (-1 if dy < 0.0 else 0)
     t_delta_x = 1.0 / abs(dx) if dx != 0.0 else _INF
@@ -254,7 +259,7 @@ def cast_ray_clear(clear: np.ndarray, origin_x: float, origin_y: float, resoluti
         while True:
             c = clear[cy, cx]
             if c == 0:
-                return t * resolution
+                return t
             if c >= 4:
                 break  # far from everything: leap
             if t_max_x < t_max_y:
@@ -262,18 +267,31 @@ def cast_ray_clear(clear: np.ndarray, origin_x: float, origin_y: float, resoluti
                 t_max_x += t_delta_x
                 cx += step_x
                 if cx < 0 or cx >= w:
-                    return max_range
+                    return t_end
             else:
                 t = t_max_y
                 t_max_y += t_delta_y
                 cy += step_y
                 if cy < 0 or cy >= h:
-                    return max_range
+                    return t_end
             if t >= t_end:
-                return max_range
+                return t_end
         t += c - 1.5
         if t >= t1:
-            return max_range
+            return t_end
+
+
+@njit(cache=True)
+def cast_ray_clear(clear: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+                   x: float, y: float, angle: float, max_range: float) -> float:
+    """``cast_ray`` with the same exact result, on a ``clearance_field``: where the nearest blocked
+    cell is far the ray leaps ahead by a distance that provably stays clear of every blocked cell
+    (any point of a cell is within sqrt(2)/2 of its centre, so ``clearance - 1.5`` cells are
+    safe), and walks cell by cell only near obstacles."""
+    t_end = max_range / resolution
+    t = cast_dir_clear(clear, (x - origin_x) / resolution, (y - origin_y) / resolution,
+                       math.cos(angle), math.sin(angle), t_end)
+    return max_range if t >= t_end else t * resolution
 
 
 @njit(cache=True)

@@ -17,6 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
+from hw.sim.sensors import _wrap, odometry_noise_step
 from navcore.raycast import segment_blocked
 
 # state vector indices
@@ -25,11 +26,19 @@ VX, VY, WZ = 3, 4, 5          # wheel (motor) body velocity, tracks the command
 OX, OY, OTH = 6, 7, 8         # noise-free wheel-odometry pose (integrates what the wheels did)
 AVX, AVY, AWZ = 9, 10, 11     # actual body velocity (after slip, faults and contacts)
 DIST, ROT = 12, 13            # wheel distance and rotation so far (battery drain)
-STATE_SIZE = 14
+NOX, NOY, NOTH = 14, 15, 16   # published (noisy) odometry pose
+PWX, PWY, PWTH = 17, 18, 19   # wheel-odometry pose at the last odometry publication
+OTX, OTY, OTW = 20, 21, 22    # published odometry twist
+O_STAMP, O_K, O_NEXT, O_CUR = 23, 24, 25, 26  # step of last publication, count, next, normals
+I_YAW, I_PTH, I_PVX, I_PVY = 27, 28, 29, 30   # imu yaw; true yaw and velocity at last sample
+I_RATE, I_AX, I_AY = 31, 32, 33               # published imu readings
+I_STAMP, I_K, I_NEXT, I_CUR = 34, 35, 36, 37  # as for odometry (I_NEXT < 0: no imu)
+STATE_SIZE = 38
 
-# limits vector indices
-L_ACC_X, L_ACC_Y, L_ACC_TH, L_MAX_X, L_MAX_Y, L_MAX_TH, L_OMNI, L_SEP, L_STEP, L_RMAX = range(10)
-LIMITS_SIZE = 10
+# limits vector indices (constants of the robot)
+(L_ACC_X, L_ACC_Y, L_ACC_TH, L_MAX_X, L_MAX_Y, L_MAX_TH, L_OMNI, L_SEP, L_STEP, L_RMAX,
+ L_ODOM_P, L_A1, L_A2, L_A3, L_A4, L_A5, L_IMU_P, L_GBIAS, L_GSIG, L_ASIG) = range(20)
+LIMITS_SIZE = 20  # L_ODOM_P / L_IMU_P: publication periods in physics steps (may be fractional)
 
 # fault vector indices: F_SLIP fraction of wheel motion lost; F_NOROT 1 = body cannot yaw;
 # F_STUCK 0 none, 1 left wheel stuck, 2 right wheel stuck
@@ -39,16 +48,6 @@ FAULTS_SIZE = 3
 # contact info indices
 C_FIRST, C_X, C_Y, C_TH, C_LAST, C_SPEED = range(6)
 CONTACT_SIZE = 6
-
-
-@njit(cache=True)
-def _wrap(a: float) -> float:
-    if -math.pi < a <= math.pi:
-        return a
-    a = (a + math.pi) % (2.0 * math.pi)  # Python semantics in numba: result in [0, 2 pi)
-    if a == 0.0:
-        return math.pi
-    return a - math.pi
 
 
 @njit(cache=True)
@@ -178,10 +177,13 @@ def _approach(v: float, target: float, step: float) -> float:
 def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt: float,
                   lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
                   blocked: np.ndarray, ox: float, oy: float, res: float, circles: np.ndarray,
-                  segments: np.ndarray, contact: np.ndarray) -> None:
-    """Advance ``st`` by ``n_steps`` steps of ``dt``; ``cmd`` (vx, vy, wz) holds for the first
-    ``n_cmd`` of them (then the command has timed out: target zero). ``contact`` receives the
-    first and last step with a blocked motion (-1: none), the pose and speed of the first."""
+                  segments: np.ndarray, contact: np.ndarray, step0: int, odom_normals: np.ndarray,
+                  imu_normals: np.ndarray) -> None:
+    """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; ``cmd``
+    (vx, vy, wz) holds for the first ``n_cmd`` of them (then the command has timed out: target
+    zero). Odometry and IMU publish into ``st`` when due, drawing their noise from the normals
+    buffers at the cursors ``st[O_CUR]`` / ``st[I_CUR]``. ``contact`` receives the first and last
+    step with a blocked motion (-1: none), the pose and speed of the first."""
     contact[C_FIRST] = -1.0
     contact[C_LAST] = -1.0
     omni = lim[L_OMNI] > 0.5
@@ -275,3 +277,65 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
             st[AVX] = avx
             st[AVY] = avy
             st[AWZ] = awz
+        g = step0 + k + 1
+        if g >= st[O_NEXT]:
+            publish_odometry(st, lim, g, dt, odom_normals)
+        if st[I_NEXT] >= 0.0 and g >= st[I_NEXT]:
+            publish_imu(st, lim, g, dt, imu_normals)
+
+
+@njit(cache=True)
+def publish_odometry(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
+                     normals: np.ndarray) -> None:
+    """Odometry of global step g: the wheel motion since the last one, with amcl's noise."""
+    if st[O_K] > 0.0:
+        c = int(st[O_CUR])
+        ox, oy, oth = st[NOX], st[NOY], st[NOTH]
+        nx, ny, nth = odometry_noise_step(ox, oy, oth, st[PWX], st[PWY], st[PWTH], st[OX],
+                                          st[OY], st[OTH], lim[L_A1], lim[L_A2], lim[L_A3],
+                                          lim[L_A4], lim[L_A5], lim[L_OMNI] > 0.5,
+                                          normals[c], normals[c + 1], normals[c + 2])
+        st[O_CUR] = c + 3
+        period = (g - st[O_STAMP]) * dt
+        cs = math.cos(oth)
+        sn = math.sin(oth)
+        st[OTX] = (cs * (nx - ox) + sn * (ny - oy)) / period
+        st[OTY] = (-sn * (nx - ox) + cs * (ny - oy)) / period
+        st[OTW] = _wrap(nth - oth) / period
+        st[NOX] = nx
+        st[NOY] = ny
+        st[NOTH] = nth
+    st[PWX] = st[OX]
+    st[PWY] = st[OY]
+    st[PWTH] = st[OTH]
+    st[O_STAMP] = g
+    st[O_K] += 1.0
+    st[O_NEXT] = math.ceil(st[O_K] * lim[L_ODOM_P] - 1e-9)
+
+
+@njit(cache=True)
+def publish_imu(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
+                normals: np.ndarray) -> None:
+    """IMU sample of global step g: yaw rate with bias and noise, its integral as yaw, and the
+    body acceleration (finite difference plus the centripetal term) with noise."""
+    c = int(st[I_CUR])
+    n0, n1, n2 = normals[c], normals[c + 1], normals[c + 2]
+    st[I_CUR] = c + 3
+    err = lim[L_GBIAS] + lim[L_GSIG] * n0
+    st[I_RATE] = st[AWZ] + err
+    ax = 0.0
+    ay = 0.0
+    if st[I_K] > 0.0:
+        period = (g - st[I_STAMP]) * dt
+        # the gyro's yaw is the integral of what it measured: the true turn plus its error
+        st[I_YAW] = _wrap(st[I_YAW] + _wrap(st[TH] - st[I_PTH]) + err * period)
+        ax = (st[AVX] - st[I_PVX]) / period - st[AVY] * st[AWZ]
+        ay = (st[AVY] - st[I_PVY]) / period + st[AVX] * st[AWZ]
+    st[I_AX] = ax + lim[L_ASIG] * n1
+    st[I_AY] = ay + lim[L_ASIG] * n2
+    st[I_PTH] = st[TH]
+    st[I_PVX] = st[AVX]
+    st[I_PVY] = st[AVY]
+    st[I_STAMP] = g
+    st[I_K] += 1.0
+    st[I_NEXT] = math.ceil(st[I_K] * lim[L_IMU_P] - 1e-9)

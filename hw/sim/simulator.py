@@ -19,10 +19,10 @@ from hw.interfaces import BaseEvents, BatteryState
 from hw.sim import physics as ph
 from hw.sim.config import RobotConfig, robot_config
 from hw.sim.faults import Fault, fault_from_mapping
-from hw.sim.sensors import noisy_odometry_step, scan_ranges
+from hw.sim.sensors import scan_ranges
 from hw.sim.world import World
 from navcore.clock import Clock
-from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, angle_diff, normalize_angle
+from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
 _EPS = 1e-9
 
@@ -52,7 +52,7 @@ class SimBase:
         self._sim._command(cmd)
 
     def odometry(self) -> Odometry | None:
-        return self._sim._odom_msg
+        return self._sim._odometry()
 
     def battery(self) -> BatteryState | None:
         return self._sim._battery_state()
@@ -81,7 +81,7 @@ class SimImu:
         self.mount: Pose2D = sim.config.imu_mount
 
     def imu(self) -> Imu | None:
-        return self._sim._imu_msg
+        return self._sim._imu()
 
 
 class Simulator:
@@ -125,6 +125,13 @@ class Simulator:
         lim[ph.L_RMAX] = rmax
         self._lim = lim
         self._omni = b.kinematics == "omni"
+        # plain copies of values read every chunk (Parameters lookups are slow in a hot loop)
+        self._bumper_hold = float(b.bumper_hold)
+        self._wheel_slip = float(b.wheel_slip)
+        bp = self.config.battery
+        self._battery = (bp.idle_power_w, bp.drive_energy_j_per_m, bp.turn_energy_j_per_rad,
+                         bp.capacity_wh * 3600.0, bp.initial_percentage, bp.voltage_empty,
+                         bp.voltage_full)
         self._alphas = (b.odom_alpha1, b.odom_alpha2, b.odom_alpha3, b.odom_alpha4,
                         b.odom_alpha5)
         self._cmd = np.zeros(3)
@@ -132,40 +139,49 @@ class Simulator:
         self._timeout_steps = max(1, _ceil_step(b.cmd_vel_timeout / self._dt))
         self._contact = np.zeros(ph.CONTACT_SIZE)
         self._faultv = np.zeros(ph.FAULTS_SIZE)
+        self._faultv[ph.F_SLIP] = float(b.wheel_slip)
         self._faults: list[Fault] = []
         self.contacts: list[Contact] = []
         self._last_blocked = -math.inf  # time of the last blocked motion
         self.rejected_commands = 0
-        # odometry
-        self._odom_pose = Pose2D()
-        self._wheel_prev = (0.0, 0.0, 0.0)
+        # independent noise streams: what one sensor draws never shifts another's noise, and
+        # the trace does not depend on how step_to calls are spread over time
+        self._rng_odom, self._rng_laser, self._rng_imu = rng.spawn(3)
+        self._odom_normals = np.zeros(0)
+        self._imu_normals = np.zeros(0)
+        lim[ph.L_ODOM_P] = (1.0 / b.odom_rate) / self._dt
+        lim[ph.L_A1:ph.L_A5 + 1] = self._alphas
+        self._noisy_odom = any(a > 0.0 for a in self._alphas)
         self._odom_msg: Odometry | None = None
-        self._odom_k = 0
-        self._odom_period = 1.0 / b.odom_rate
-        self._next_odom = 0
         # laser
         lc = self.config.laser
         self._scan_msg: LaserScan | None = None
         self._scan_k = 0
         self._next_scan = 0 if lc is not None else None
         if lc is not None:
-            self._scan_period = 1.0 / lc.rate
+            self._scan_period = (1.0 / lc.rate) / self._dt
             self._beams = np.ascontiguousarray(lc.angles)
             self._no_return = math.inf if lc.no_return_inf else lc.range_max
             self._zero_noise = np.zeros(len(lc.angles))
         # imu
         ic = self.config.imu
         self._imu_msg: Imu | None = None
-        self._imu_k = 0
-        self._next_imu = 0 if ic is not None else None
+        st = self._st
+        st[ph.I_NEXT] = -1.0
         if ic is not None:
-            self._imu_period = 1.0 / ic.rate
-            self._imu_yaw = normalize_angle(start.theta + self.config.imu_mount.theta)
-            self._imu_prev = (start.theta, 0.0, 0.0, self._t0)  # yaw, vx, vy, time
+            lim[ph.L_IMU_P] = (1.0 / ic.rate) / self._dt
+            lim[ph.L_GBIAS], lim[ph.L_GSIG], lim[ph.L_ASIG] = ic.gyro_bias, \
+                ic.gyro_noise_stddev, ic.accel_noise_stddev
+            st[ph.I_YAW] = normalize_angle(start.theta + self.config.imu_mount.theta)
+            st[ph.I_NEXT] = 0.0
+        self._refill_normals(1)
+        ph.publish_odometry(st, lim, 0, self._dt, self._odom_normals)
+        if ic is not None:
+            ph.publish_imu(st, lim, 0, self._dt, self._imu_normals)
         self.base = SimBase(self)
         self.laser = SimLaser(self) if lc is not None else None
         self.imu = SimImu(self) if ic is not None else None
-        self._publish_due()
+        self._publish_scan_if_due()
 
     # ----------------------------------------------------------------- time and stepping
     @property
@@ -185,35 +201,54 @@ class Simulator:
         while self._step < target:
             s = self._step
             now = self._t0 + s * dt
-            end = min(target, self._next_odom)
+            end = target
             if self._next_scan is not None:
                 end = min(end, self._next_scan)
-            if self._next_imu is not None:
-                end = min(end, self._next_imu)
             boundary = min(world.next_change(now), self._next_fault_change(now))
             if boundary < math.inf:
                 end = min(end, max(s + 1, _ceil_step((boundary - self._t0) / dt)))
             moving = world.has_moving(now)
             if moving:
                 end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
-            self._update_fault_vector(now)
+            self._refill_normals(end - s)
+            if self._faults:
+                self._update_fault_vector(now)
             circles, segments = world.shapes_at(now)
             n_cmd = self._cmd_until - s
             if self._battery_fraction() <= 0.0:
                 n_cmd = 0  # a flat battery: the motors stop
             ph.physics_steps(self._st, self._cmd, n_cmd, end - s, dt, self._lim, self._faultv,
                              moving, self._fp, world.blocked, world.origin_x, world.origin_y,
-                             world.resolution, circles, segments, self._contact)
+                             world.resolution, circles, segments, self._contact, s,
+                             self._odom_normals, self._imu_normals)
             if self._contact[ph.C_FIRST] >= 0.0:
                 first_t = now + (float(self._contact[ph.C_FIRST]) + 1) * dt
-                if first_t - self._last_blocked > self.config.base.bumper_hold + _EPS:
+                if first_t - self._last_blocked > self._bumper_hold + _EPS:
                     c = self._contact
                     self.contacts.append(Contact(first_t, Pose2D(float(c[ph.C_X]), float(c[ph.C_Y]),
                                                                  float(c[ph.C_TH])),
                                                  float(c[ph.C_SPEED])))
                 self._last_blocked = now + (float(self._contact[ph.C_LAST]) + 1) * dt
             self._step = end
-            self._publish_due()
+            self._publish_scan_if_due()
+
+    def _refill_normals(self, n_steps: int) -> None:
+        """Make sure the odometry and IMU noise buffers hold enough draws for n_steps."""
+        st, lim = self._st, self._lim
+        need = 3 * (int(n_steps / lim[ph.L_ODOM_P]) + 2)
+        c = int(st[ph.O_CUR])
+        if len(self._odom_normals) - c < need:
+            n = max(need, 3072)
+            fresh = self._rng_odom.standard_normal(n) if self._noisy_odom else np.zeros(n)
+            self._odom_normals = np.concatenate([self._odom_normals[c:], fresh])
+            st[ph.O_CUR] = 0.0
+        if lim[ph.L_IMU_P] > 0.0:
+            need = 3 * (int(n_steps / lim[ph.L_IMU_P]) + 2)
+            c = int(st[ph.I_CUR])
+            if len(self._imu_normals) - c < need:
+                fresh = self._rng_imu.standard_normal(max(need, 3072))
+                self._imu_normals = np.concatenate([self._imu_normals[c:], fresh])
+                st[ph.I_CUR] = 0.0
 
     # ----------------------------------------------------------------- commands and faults
     def _command(self, cmd: Twist) -> None:
@@ -228,6 +263,7 @@ class Simulator:
         """Schedule a fault (a ``Fault`` or a scenario mapping, see ``hw.sim.faults``)."""
         f = fault if isinstance(fault, Fault) else fault_from_mapping(fault)
         self._faults.append(f)
+        self._update_fault_vector(self.time)
         return f
 
     def inject(self, kind: str, start: float, duration: float = math.inf,
@@ -257,7 +293,7 @@ class Simulator:
     def _update_fault_vector(self, t: float) -> None:
         fv = self._faultv
         fv[:] = 0.0
-        fv[ph.F_SLIP] = self.config.base.wheel_slip
+        fv[ph.F_SLIP] = self._wheel_slip
         for f in self._faults:
             if not f.active(t):
                 continue
@@ -299,56 +335,59 @@ class Simulator:
                                       w.origin_x, w.origin_y, w.resolution, c, s))
 
     def bumper_pressed(self) -> bool:
-        return self.time - self._last_blocked <= self.config.base.bumper_hold + _EPS
+        return self.time - self._last_blocked <= self._bumper_hold + _EPS
 
     def in_collision(self) -> bool:
         """The bumper is pressed or the body overlaps something (RobotIO of the executive)."""
         return self.bumper_pressed() or self.overlapping()
 
     # ----------------------------------------------------------------- sensors
-    def _publish_due(self) -> None:
-        s = self._step
-        if s == self._next_odom:
-            self._publish_odom()
-            self._odom_k += 1
-            self._next_odom = _ceil_step(self._odom_k * self._odom_period / self._dt)
-        if self._next_scan is not None and s == self._next_scan:
+    def _publish_scan_if_due(self) -> None:
+        if self._next_scan is not None and self._step >= self._next_scan:
             self._publish_scan()
             self._scan_k += 1
-            self._next_scan = _ceil_step(self._scan_k * self._scan_period / self._dt)
-        if self._next_imu is not None and s == self._next_imu:
-            self._publish_imu()
-            self._imu_k += 1
-            self._next_imu = _ceil_step(self._imu_k * self._imu_period / self._dt)
+            self._next_scan = _ceil_step(self._scan_k * self._scan_period)
 
-    def _publish_odom(self) -> None:
+    def _odometry(self) -> Odometry:
+        """The newest odometry message, built on first read after each publication."""
         st = self._st
-        wheel = (float(st[ph.OX]), float(st[ph.OY]), float(st[ph.OTH]))
-        if self._odom_msg is None:
-            self._odom_msg = Odometry(self.time, self._odom_pose, Twist())
-            self._wheel_prev = wheel
-            return
-        if any(a > 0.0 for a in self._alphas):
-            normals = self.rng.standard_normal(3)
-        else:
-            normals = np.zeros(3)
-        prev = self._odom_pose
-        pose = noisy_odometry_step(prev, self._wheel_prev, wheel, self._alphas, self._omni,
-                                   normals)
-        period = self.time - self._odom_msg.stamp
-        d = pose.relative_to(prev)
-        twist = Twist(d.x / period, d.y / period, d.theta / period)
+        stamp = self._t0 + float(st[ph.O_STAMP]) * self._dt
+        msg = self._odom_msg
+        if msg is not None and msg.stamp == stamp:
+            return msg
+        twist = Twist(float(st[ph.OTX]), float(st[ph.OTY]), float(st[ph.OTW]))
         a1, a2, a3, a4, a5 = self._alphas
-        t2 = (d.x * d.x + d.y * d.y)
-        r2 = d.theta * d.theta
-        var_t = (a3 * t2 + a4 * r2) / (period * period)
-        var_r = (a1 * r2 + a2 * t2) / (period * period)
-        var_s = (a4 * r2 + a5 * t2) / (period * period) if self._omni else 1e-9
-        self._odom_pose = pose
-        self._wheel_prev = wheel
-        self._odom_msg = Odometry(self.time, pose, twist,
-                                  pose_covariance=np.diag([1e-3, 1e-3, 1e-3]),
-                                  twist_covariance=np.diag([var_t + 1e-9, var_s, var_r + 1e-9]))
+        period = self._lim[ph.L_ODOM_P] * self._dt
+        t2 = (twist.vx ** 2 + twist.vy ** 2) * period * period
+        r2 = (twist.wz * period) ** 2
+        scale = 1.0 / (period * period)
+        var_s = (a4 * r2 + a5 * t2) * scale if self._omni else 0.0
+        self._odom_msg = Odometry(
+            stamp, Pose2D(float(st[ph.NOX]), float(st[ph.NOY]), float(st[ph.NOTH])), twist,
+            pose_covariance=np.diag([1e-3, 1e-3, 1e-3]),
+            twist_covariance=np.diag([(a3 * t2 + a4 * r2) * scale + 1e-9, var_s + 1e-9,
+                                      (a1 * r2 + a2 * t2) * scale + 1e-9]))
+        return self._odom_msg
+
+    def _imu(self) -> Imu | None:
+        """The newest IMU message, built on first read after each sample."""
+        ic = self.config.imu
+        if ic is None:
+            return None
+        st = self._st
+        stamp = self._t0 + float(st[ph.I_STAMP]) * self._dt
+        msg = self._imu_msg
+        if msg is not None and msg.stamp == stamp:
+            return msg
+        m = self.config.imu_mount.theta
+        c, s = math.cos(m), math.sin(m)
+        ax, ay = float(st[ph.I_AX]), float(st[ph.I_AY])
+        var = ic.gyro_noise_stddev ** 2
+        elapsed = stamp - self._t0
+        self._imu_msg = Imu(stamp, float(st[ph.I_YAW]), float(st[ph.I_RATE]), c * ax + s * ay,
+                            -s * ax + c * ay, yaw_variance=max(var * elapsed, 1e-9),
+                            angular_velocity_variance=var)
+        return self._imu_msg
 
     def laser_pose(self) -> Pose2D:
         """True pose of the laser frame in ``map``."""
@@ -364,52 +403,27 @@ class Simulator:
             ranges = old.ranges.copy()
         else:
             p = self.laser_pose()
-            noise = (self.rng.normal(0.0, lc.range_noise_stddev, len(self._beams))
+            noise = (self._rng_laser.normal(0.0, lc.range_noise_stddev, len(self._beams))
                      if lc.range_noise_stddev > 0 else self._zero_noise)
             ranges = np.empty(len(self._beams), np.float32)
             w = self.world
             circles, segments = w.shapes_at(now)
-            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, p.x, p.y, p.theta,
-                        self._beams, lc.range_max, circles, segments, noise, self._no_return,
-                        ranges)
+            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, p.x, p.y,
+                        p.theta + lc.angle_min, lc.angle_increment, lc.range_max, circles,
+                        segments, noise, self._no_return, ranges)
         self._scan_msg = LaserScan(now, lc.angle_min, lc.angle_max, lc.angle_increment,
                                    lc.time_increment, lc.scan_time, lc.range_min, lc.range_max,
                                    ranges)
 
-    def _publish_imu(self) -> None:
-        ic = self.config.imu
-        st = self._st
-        now = self.time
-        yaw0, vx0, vy0, t0 = self._imu_prev
-        dt = now - t0
-        n = self.rng.standard_normal(3)
-        n = [float(v) for v in n]
-        rate = float(st[ph.AWZ]) + ic.gyro_bias + ic.gyro_noise_stddev * n[0]
-        ax = ay = 0.0
-        if dt > 0:
-            # the gyro's yaw is the integral of what it measured: true turn + bias + noise
-            self._imu_yaw = normalize_angle(self._imu_yaw + angle_diff(float(st[ph.TH]), yaw0)
-                                            + (ic.gyro_bias + ic.gyro_noise_stddev * n[0]) * dt)
-            ax = (float(st[ph.AVX]) - vx0) / dt - float(st[ph.AVY]) * float(st[ph.AWZ])
-            ay = (float(st[ph.AVY]) - vy0) / dt + float(st[ph.AVX]) * float(st[ph.AWZ])
-        ax += ic.accel_noise_stddev * n[1]
-        ay += ic.accel_noise_stddev * n[2]
-        m = self.config.imu_mount.theta
-        c, s = math.cos(m), math.sin(m)
-        self._imu_prev = (float(st[ph.TH]), float(st[ph.AVX]), float(st[ph.AVY]), now)
-        var = ic.gyro_noise_stddev ** 2
-        self._imu_msg = Imu(now, self._imu_yaw, rate, c * ax + s * ay, -s * ax + c * ay,
-                            yaw_variance=max(var * max(now - self._t0, dt), 1e-9),
-                            angular_velocity_variance=var)
-
     # ----------------------------------------------------------------- battery
     def _battery_fraction(self) -> float:
-        bp = self.config.battery
-        used = (bp.idle_power_w * (self.time - self._t0) + bp.drive_energy_j_per_m
-                * self._st[ph.DIST] + bp.turn_energy_j_per_rad * self._st[ph.ROT])
-        return max(0.0, bp.initial_percentage - float(used) / (bp.capacity_wh * 3600.0))
+        idle, per_m, per_rad, capacity, initial, _, _ = self._battery
+        st = self._st
+        used = (idle * (self.time - self._t0) + per_m * float(st[ph.DIST])
+                + per_rad * float(st[ph.ROT]))
+        return max(0.0, initial - used / capacity)
 
     def _battery_state(self) -> BatteryState:
-        bp = self.config.battery
         f = self._battery_fraction()
-        return BatteryState(bp.voltage_empty + f * (bp.voltage_full - bp.voltage_empty), f)
+        v_empty, v_full = self._battery[5], self._battery[6]
+        return BatteryState(v_empty + f * (v_full - v_empty), f)

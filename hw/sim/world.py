@@ -191,6 +191,8 @@ class World:
         self.origin_y = float(grid.origin.y)
         self.resolution = float(grid.resolution)
         self._objects: list[WorldObject] = []
+        self._timed = False
+        self._moving = False
         self._cache_key: tuple | None = None
         self._cache: tuple[np.ndarray, np.ndarray] = (np.zeros((0, 3)), np.zeros((0, 4)))
         for o in objects:
@@ -206,17 +208,25 @@ class World:
             raise WorldError(f"World.add: expected Circle, Polygon, Box, Pole or MovingObstacle, "
                              f"got {type(obj).__name__}")
         self._objects.append(obj)
-        self._cache_key = None
+        self._changed()
         return obj
 
     def remove(self, obj: WorldObject) -> None:
         """Take an object out of the world (ValueError if it is not there)."""
         self._objects.remove(obj)
+        self._changed()
+
+    def _changed(self) -> None:
         self._cache_key = None
+        self._timed = any(math.isfinite(o.appear) or math.isfinite(o.disappear)
+                          for o in self._objects)
+        self._moving = any(isinstance(o, MovingObstacle) for o in self._objects)
 
     def next_change(self, t: float) -> float:
         """The first appear/disappear time after t (inf if none): the simulator ends a physics
         chunk there so that objects pop in and out on time."""
+        if not self._timed:
+            return math.inf
         nxt = math.inf
         for o in self._objects:
             for s in (o.appear, o.disappear):
@@ -225,10 +235,14 @@ class World:
         return nxt
 
     def has_moving(self, t: float) -> bool:
+        if not self._moving:
+            return False
         return any(isinstance(o, MovingObstacle) and _present(o, t) for o in self._objects)
 
     def shapes_at(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         """(circles (N, 3), segments (M, 4)) of every object present at time t."""
+        if not self._timed and not self._moving and self._cache_key is not None:
+            return self._cache  # a static world: the same arrays every time
         present = tuple(i for i, o in enumerate(self._objects) if _present(o, t))
         moving = any(isinstance(self._objects[i], MovingObstacle) for i in present)
         if not moving and self._cache_key == present:
