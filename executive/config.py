@@ -87,10 +87,9 @@ SAFETY_PARAMS: tuple[Param, ...] = (
 # executive does not import every component just to read a file, and so a component that is not
 # installed only matters when its namespace is used.
 COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
-    "global_costmap": (("navcore.costmap.params", "COSTMAP_PARAMS"),
-                       ("navcore.costmap.layered", "COSTMAP_PARAMS")),
-    "local_costmap": (("navcore.costmap.params", "COSTMAP_PARAMS"),
-                      ("navcore.costmap.layered", "COSTMAP_PARAMS")),
+    # costmaps carry nested layer namespaces: checked by building one (see _check_costmap)
+    "global_costmap": (),
+    "local_costmap": (),
     "NavfnROS": (("navcore.planners.navfn", "NAVFN_PARAMS"),),
     "GlobalPlanner": (("navcore.planners.global_planner", "GLOBAL_PLANNER_PARAMS"),
                       ("navcore.planners.global_planner", "PARAMS")),
@@ -207,6 +206,36 @@ def _check_footprint(fp: list, where: str) -> None:
             raise ConfigError(f"{where}: parameter 'footprint' point {i} must be [x, y], got {p!r}")
 
 
+def _check_costmap(body: dict[str, Any], ns: str, robot: Parameters, source: str) -> None:
+    """Build the costmap once on a tiny map: every layer validates its own namespace."""
+    try:
+        from navcore.costmap.layered import LayeredCostmap
+        from navcore.maps import OccupancyGrid
+    except ImportError:
+        return
+    import numpy as np
+    trial = dict(body)
+    if robot.footprint:
+        trial.setdefault("footprint", robot.footprint)
+    else:
+        trial.setdefault("robot_radius", robot.robot_radius)
+    try:
+        make_costmap(trial, OccupancyGrid(np.zeros((4, 4)), 0.05), ns)
+    except (ParameterError, ValueError, KeyError) as e:
+        raise ConfigError(f"{source}: {e}") from None
+
+
+def make_costmap(params: dict[str, Any], grid: Any, name: str, clock: Any = None) -> Any:
+    """A LayeredCostmap from a ROS namespace; the map goes to it only if it has a static layer."""
+    from navcore.costmap.layered import LayeredCostmap
+    try:
+        return LayeredCostmap.from_params(params, static_map=None, name=name, clock=clock)
+    except ParameterError as e:
+        if "needs a map" not in str(e):
+            raise
+    return LayeredCostmap.from_params(params, static_map=grid, name=name, clock=clock)
+
+
 def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> RobotConfig:
     """Validate a parsed robot config; raise ConfigError naming source, namespace and parameter."""
     if doc is None:
@@ -237,6 +266,8 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
         raw[ns] = body
         if ns == SIM_NAMESPACE:
             continue  # checked below, once the footprint is known
+        if ns in ("global_costmap", "local_costmap"):
+            continue  # checked below, with the footprint
         specs = specs_for(ns)
         if specs is None:
             continue  # component not installed: its own constructor validates when built
@@ -268,6 +299,9 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
             robot_config(sim_values)
         except (ParameterError, ValueError) as e:
             raise ConfigError(f"{source}: {e}") from None
+    for ns in ("global_costmap", "local_costmap"):
+        if ns in raw:
+            _check_costmap(raw[ns], ns, values["robot"], source)
     component_params = {ns: p for ns, p in values.items() if ns not in OWN_NAMESPACES}
     return RobotConfig(source, values["robot"], values["move_base"], values["safety"], raw,
                        component_params)

@@ -41,15 +41,16 @@ class World:
 
 
 # --------------------------------------------------------------------------- component builders
-def _costmaps(config: RobotConfig, grid: OccupancyGrid) -> tuple[Any, Any]:
-    from navcore.costmap.layered import LayeredCostmap
-    fp = config.footprint()
-    g = LayeredCostmap.from_params(config.ns("global_costmap"), footprint=fp, static_map=grid,
-                                   name="global_costmap")
-    loc = config.ns("local_costmap")
-    loc.setdefault("rolling_window", True)
-    local = LayeredCostmap.from_params(loc, footprint=fp, static_map=grid, name="local_costmap")
-    return g, local
+def _costmaps(config: RobotConfig, grid: OccupancyGrid, clock: Clock) -> tuple[Any, Any]:
+    from executive.config import make_costmap
+    fp = [list(p) for p in config.footprint()]
+    g = config.ns("global_costmap")
+    g.setdefault("footprint", fp)
+    local = config.ns("local_costmap")
+    local.setdefault("footprint", fp)
+    local.setdefault("rolling_window", True)
+    return (make_costmap(g, grid, "global_costmap", clock),
+            make_costmap(local, grid, "local_costmap", clock))
 
 
 def _planner(config: RobotConfig, global_cm: Any) -> Any:
@@ -116,11 +117,35 @@ class Mission:
     tree_path: str
 
 
-def _paint_phantoms(phantoms: Sequence[tuple[Shape, str]], global_cm: Any, local_cm: Any) -> None:
-    for shape, which in phantoms:
-        targets = {"global": [global_cm], "local": [local_cm], "both": [global_cm, local_cm]}[which]
-        for cm in targets:
-            cm.add_phantom(shape.polygon())
+def paint_phantom(cm: Any, shape: Shape) -> int:
+    """Mark a shape LETHAL in every clearable (obstacle) layer of a costmap; returns the cells.
+
+    The cells persist like any stale observation: until a clear recovery resets the layer or a
+    laser ray passes through them (ray-trace clearing), exactly as a ghost obstacle would."""
+    from navcore.costmap.cost_values import LETHAL_OBSTACLE
+    x0, y0, x1, y1 = _bbox(shape)
+    n = 0
+    for layer in [l for l in cm.layers if getattr(l, "clearable", False)]:
+        g = layer.grid
+        for my in range(max(0, int((y0 - g.origin_y) / g.resolution)),
+                        min(g.size_y, int(math.ceil((y1 - g.origin_y) / g.resolution)))):
+            for mx in range(max(0, int((x0 - g.origin_x) / g.resolution)),
+                            min(g.size_x, int(math.ceil((x1 - g.origin_x) / g.resolution)))):
+                wx, wy = g.map_to_world(mx, my)
+                if shape.kind == "circle" and math.hypot(wx - shape.values[0],
+                                                         wy - shape.values[1]) > shape.values[2]:
+                    continue
+                g.costs[my, mx] = LETHAL_OBSTACLE
+                n += 1
+        layer.add_extra_bounds(x0, y0, x1, y1)
+    return n
+
+
+def _bbox(shape: Shape) -> tuple[float, float, float, float]:
+    if shape.kind == "box":
+        return shape.values  # type: ignore[return-value]
+    x, y, r = shape.values
+    return x - r, y - r, x + r, y + r
 
 
 def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, start: Pose2D, *,
@@ -135,7 +160,7 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
     namespace = f"/mission_{next(_mission_ids)}"
     tree = load_tree_file(tree_path, namespace=namespace)
     try:
-        global_cm, local_cm = _costmaps(config, grid)
+        global_cm, local_cm = _costmaps(config, grid, clock)
         planner = _planner(config, global_cm)
         controller = _controller(config, local_cm)
     except ImportError as e:
@@ -144,7 +169,6 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
         raise WiringError(f"{config.source}: robot: devices: hw is only available through "
                           "`mission run --hw` with drivers installed")
     sim = _simulator(config, grid, start, world, clock, rng)
-    _paint_phantoms(world.phantoms, global_cm, local_cm)
     io = SimIO(sim)
     components = {
         "global_costmap": global_cm,
@@ -156,19 +180,41 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
     }
     mount = sim.config.laser.mount if sim.config.laser is not None else Pose2D()
 
+    periods = {id(global_cm): _update_period(global_cm), id(local_cm): _update_period(local_cm)}
+    due = {id(global_cm): -math.inf, id(local_cm): -math.inf}
+    phantoms_pending = list(world.phantoms)
+
     def perceive(pose: Pose2D, scan: LaserScan | None, now: float) -> None:
-        if scan is not None:
+        if scan is not None and scan is not state.get("scan"):
+            state["scan"] = scan
             laser_pose = pose.compose(mount)
             local_cm.add_scan(scan, laser_pose)
             global_cm.add_scan(scan, laser_pose)
-        local_cm.update_map(pose, now)
-        global_cm.update_map(pose, now)
+        for cm in (local_cm, global_cm):
+            if now >= due[id(cm)]:
+                cm.update_map(pose)
+                due[id(cm)] = now + periods[id(cm)]
+        if phantoms_pending:
+            # after the first update, so the rolling window is already around the robot
+            for shape, which in phantoms_pending:
+                for cm in {"global": [global_cm], "local": [local_cm],
+                           "both": [global_cm, local_cm]}[which]:
+                    paint_phantom(cm, shape)
+            phantoms_pending.clear()
+            local_cm.update_map(pose)
+            global_cm.update_map(pose)
 
+    state: dict[str, Any] = {}
     ex = Executive(tree, io, clock, config.control_period(), components,
                    safety=SafetyGate(config.safety), recorder=recorder, perceivers=[perceive],
                    namespace=namespace, meta=dict(meta or {}, tree=os.path.abspath(tree_path),
                                                   start=[start.x, start.y, start.theta]))
     return Mission(ex, grid, config, sim, components, world, tree_path)
+
+
+def _update_period(cm: Any) -> float:
+    f = float(getattr(cm.params, "update_frequency", 0.0))
+    return 1.0 / f if f > 0 else 0.0
 
 
 def free_start(grid: OccupancyGrid) -> Pose2D:

@@ -105,3 +105,14 @@ def test_sim_namespace_checked_by_simulator():
         config_from_mapping({"sim": {"max_vel_xx": 1.0}}, "r.yaml")
     with pytest.raises(ConfigError, match=r"r.yaml: sim.laser: unknown parameter 'beam'"):
         config_from_mapping({"sim": {"laser": {"beam": 10}}}, "r.yaml")
+
+
+def test_costmap_namespaces_checked_by_building_them():
+    pytest.importorskip("navcore.costmap.layered")
+    with pytest.raises(ConfigError, match=r"r.yaml: local_costmap.*unknown parameter 'widht'"):
+        config_from_mapping({"local_costmap": {"widht": 3.0}}, "r.yaml")
+    with pytest.raises(ConfigError, match=r"r.yaml: global_costmap/inflation_layer: .*"
+                                          r"'inflation_radius'"):
+        config_from_mapping({"global_costmap": {"plugins": ["inflation_layer"],
+                                                "inflation_layer": {"inflation_radius": -1}}},
+                            "r.yaml")
