@@ -95,7 +95,7 @@ def test_pp_reply_gives_geometry_and_header_fields() -> None:
     assert ls.scan_time == pytest.approx(0.1)
     assert (ls.range_min, ls.range_max) == (pytest.approx(0.02), pytest.approx(5.6))
     assert np.isinf(ls.ranges[0]) and np.isinf(ls.ranges[1])      # codes 0, 6: no return
-    assert ls.ranges[2] == 0.0 and ls.ranges[3] == 0.0           # other codes: invalid
+    assert np.isnan(ls.ranges[2]) and np.isnan(ls.ranges[3])     # other codes: errors (REP 117)
     assert ls.ranges[4] == pytest.approx(1.0) and ls.ranges[-1] == pytest.approx(5.6)
 
 

@@ -336,15 +336,15 @@ def to_laser_scan(scan: ScanData, geom: UrgGeometry, stamp: float,
                   frame_id: str = "laser") -> LaserScan:
     """Raw values -> LaserScan with the header fields of this sensor (tuning guide 5.1).
 
-    Values below DMIN are error codes: 0 and 6 mean no return (+inf), the others an invalid
-    reading (0.0, below range_min)."""
+    Values below DMIN are error codes. As REP 117 asks: 0 and 6 (no object within range) become
+    +inf, the other codes (measurement errors) NaN."""
     req = scan.request
     c = max(req.cluster, 1)
     inc = 2.0 * math.pi / geom.ares
     raw = scan.values
     r = raw.astype(np.float32) / 1000.0
     err = raw < geom.dmin
-    r[err] = 0.0
+    r[err] = np.nan
     r[err & ((raw == 0) | (raw == 6))] = np.inf
     n = len(r)
     a0 = geom.angle(req.start)

@@ -25,7 +25,8 @@ class Emulator:
     def __init__(self, clock: Clock) -> None:
         self.clock = clock
         self.outbox = bytearray()
-        self.baudrate = 9600
+        # the host's bit rate as the transport reports it; None when it cannot (a pty ignores it)
+        self.baudrate: int | None = None
 
     def receive(self, data: bytes) -> None:
         """Bytes written by the host."""
