@@ -45,6 +45,9 @@ class _Reader:
     def pairs(self, node: yaml.MappingNode, what: str) -> list[tuple[str, yaml.Node, Where]]:
         if not isinstance(node, yaml.MappingNode):
             raise TreeError(f"{self.where(node)}: {what} must be a mapping")
+        if node.tag != "tag:yaml.org,2002:map":
+            raise TreeError(f"{self.where(node)}: {what}: YAML tag '{node.tag}' is not allowed "
+                            f"(trees are plain data)")
         out, seen = [], set()
         for k, v in node.value:
             key = self.value(k)
