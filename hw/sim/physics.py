@@ -297,11 +297,16 @@ def publish_odometry(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
                                           normals[c], normals[c + 1], normals[c + 2])
         st[O_CUR] = c + 3
         period = (g - st[O_STAMP]) * dt
-        cs = math.cos(oth)
-        sn = math.sin(oth)
-        st[OTX] = (cs * (nx - ox) + sn * (ny - oy)) / period
-        st[OTY] = (-sn * (nx - ox) + cs * (ny - oy)) / period
-        st[OTW] = _wrap(nth - oth) / period
+        # the constant body twist that moves the old odometry pose to the new one in a period:
+        # an arc of angle a has its chord turned by a/2 and shortened by sinc(a/2)
+        a = _wrap(nth - oth)
+        h = 0.5 * a
+        k = 1.0 if abs(h) < 1e-9 else math.sin(h) / h
+        cs = math.cos(oth + h)
+        sn = math.sin(oth + h)
+        st[OTX] = (cs * (nx - ox) + sn * (ny - oy)) / (k * period)
+        st[OTY] = (-sn * (nx - ox) + cs * (ny - oy)) / (k * period)
+        st[OTW] = a / period
         st[NOX] = nx
         st[NOY] = ny
         st[NOTH] = nth
