@@ -1,0 +1,215 @@
+"""Whole-tree tests of the shipped trees against scripted components (Nav2 system-test style).
+
+Each shipped tree runs on a kinematic FakeRobot with a ScriptedPlanner / ScriptedController that
+fail when told to; the tests assert the final status and how often the planner, the controller,
+the costmap clearings and each recovery ran.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections import Counter as Tally
+
+import pytest
+from py_trees.common import Status
+from py_trees.visitors import VisitorBase
+
+from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, run_tree
+from executive.tree_loader import SHIPPED_TREES, load_tree, shipped_tree
+from navcore.types import Pose2D
+
+S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
+GOAL = Pose2D(3.0, 1.0, 0.0)
+_ns = itertools.count()
+
+
+class Runs(VisitorBase):
+    """Counts finished runs (SUCCESS or FAILURE) per node type."""
+
+    def __init__(self) -> None:
+        super().__init__(full=False)
+        self.done: Tally = Tally()
+        self.running: Tally = Tally()
+
+    def run(self, behaviour) -> None:
+        kind = type(behaviour).__name__
+        if behaviour.status in (S, F):
+            self.done[kind] += 1
+        elif behaviour.status == R:
+            self.running[kind] += 1
+
+
+def start(name: str, world: World, goal: Pose2D = GOAL):
+    tree = load_tree(shipped_tree(name), namespace=f"/sys{next(_ns)}")
+    runs = Runs()
+    tree.tree.add_visitor(runs)
+    tree.setup(**world.components())
+    tree.set("goal", goal)
+    return tree, runs
+
+
+def clears(cm: FakeCostmap) -> int:
+    return cm.clearings
+
+
+@pytest.mark.parametrize("name", SHIPPED_TREES)
+def test_all_succeed(name):
+    w = World()
+    tree, runs = start(name, w)
+    status, ticks = run_tree(tree, w)
+    assert status == S
+    assert w.robot.pose().distance_to(GOAL) <= 0.1
+    assert clears(w.local_costmap) == clears(w.global_costmap) == 0
+    assert runs.done["Spin"] == runs.done["BackUp"] == runs.done["Wait"] == 0
+    replans = 1 if name == "move_base" else 1 + int(ticks * w.control_period)  # 1 Hz
+    assert w.planner.calls == replans
+    assert w.controller.calls == ticks
+
+
+def test_move_base_everything_fails():
+    w = World(planner=ScriptedPlanner(fail_always=True))
+    tree, runs = start("move_base", w)
+    status, ticks = run_tree(tree, w, max_ticks=20000)
+    assert status == F
+    # conservative_reset, rotate, aggressive_reset, rotate; then abort
+    assert w.local_costmap.clear_outside_calls[0][2] == 3.0
+    assert [c[2] for c in w.global_costmap.clear_outside_calls] == [3.0, 1.84]
+    assert len(w.local_costmap.clear_outside_calls) == 2
+    assert runs.done["Spin"] == 2
+    # five planning attempts of planner_patience 5 s each, one planner call per 50 ms tick
+    assert abs(w.planner.calls - 5 * 100) <= 5
+    assert w.controller.calls == 0
+
+
+def test_nav2_everything_fails():
+    w = World(planner=ScriptedPlanner(fail_always=True))
+    tree, runs = start("nav2", w)
+    status, _ = run_tree(tree, w)
+    assert status == F
+    assert w.planner.calls == 7 * 2          # 1 + 6 retries, each with one context retry
+    # context: clear global 7x; global recoveries in order clear-both, spin, wait, backup,
+    # clear-both, spin (RoundRobin wraps)
+    assert w.global_costmap.resets == 7 + 2 and w.local_costmap.resets == 2
+    assert (runs.done["Spin"], runs.done["Wait"], runs.done["BackUp"]) == (2, 1, 1)
+
+
+def test_smach_everything_fails():
+    w = World(planner=ScriptedPlanner(fail_always=True))
+    tree, runs = start("smach_recovery", w)
+    status, _ = run_tree(tree, w)
+    assert status == F
+    # 11 navigation attempts (2 planner calls each); 10 recoveries:
+    # clear-local, spin, [temporary goal fails -> back off fails -> clear-all+wait], clear-local,
+    # spin, [...], clear-local, spin, [...], clear-local. TemporaryGoal tries all 5x16 candidates
+    # (rings at 0.6, 0.8, ..., 1.4 m).
+    assert runs.done["TemporaryGoal"] == runs.done["BackOffToPreviousPose"] == 3
+    assert w.planner.calls == 11 * 2 + 3 * 80
+    assert runs.done["Spin"] == 3 and runs.done["Wait"] == 3
+    assert w.global_costmap.resets == 11 + 3          # context clears + clear-all
+    assert len(w.local_costmap.clear_outside_calls) == 4
+
+
+def test_near_goal_everything_fails():
+    w = World(planner=ScriptedPlanner(fail_always=True))
+    tree, runs = start("near_goal_reconfigure", w)
+    status, _ = run_tree(tree, w)
+    assert status == F
+    assert w.planner.calls == 5
+    assert (runs.done["Spin"], runs.done["BackUp"]) == (1, 1)
+    assert w.local_costmap.resets == w.global_costmap.resets == 2
+
+
+@pytest.mark.parametrize("name,global_resets,local_resets,planner_min", [
+    ("move_base", 0, 0, 2),               # RetryUntilSuccessful: next tick, no recovery
+    ("nav2", 1, 0, 2),                    # context recovery: clear the global costmap
+    ("smach_recovery", 1, 0, 2),
+    ("near_goal_reconfigure", 1, 1, 2),   # no context recovery: first global one (clear both)
+])
+def test_planning_fails_once(name, global_resets, local_resets, planner_min):
+    w = World(planner=ScriptedPlanner(fail_calls=[1]))
+    tree, runs = start(name, w)
+    status, _ = run_tree(tree, w)
+    assert status == S and w.robot.pose().distance_to(GOAL) <= 0.1
+    assert w.global_costmap.resets == global_resets and w.local_costmap.resets == local_resets
+    assert w.planner.calls >= planner_min
+    assert runs.done["Spin"] == 0
+
+
+@pytest.mark.parametrize("name", SHIPPED_TREES)
+def test_goal_changes_while_a_recovery_runs(name):
+    """Planning fails until a Spin is under way; then a new goal arrives and planning works."""
+    state = {"blocked": True, "switched_at": None}
+    planner = ScriptedPlanner(fail_calls=lambda i: state["blocked"])
+    w = World(planner=planner)
+    tree, runs = start(name, w)
+    new_goal = Pose2D(-1.0, 2.0, 0.0)
+
+    def on_tick(i, world):
+        if state["switched_at"] is None and runs.running["Spin"] >= 3:
+            tree.set("goal", new_goal)
+            state["blocked"] = False
+            state["switched_at"] = i
+
+    status, _ = run_tree(tree, w, max_ticks=20000, on_tick=on_tick)
+    assert state["switched_at"] is not None
+    assert status == S
+    assert w.robot.pose().distance_to(new_goal) <= 0.1
+    assert runs.done["Spin"] == 0                      # the spin was preempted, never finished
+    assert planner.goals[-1] == new_goal
+
+
+def test_nav2_picks_recoveries_by_error_code():
+    # goal occupied: no recovery can help, so nav2 gives up after one planning attempt
+    w = World(planner=ScriptedPlanner(fail_always=True, reason="goal_occupied"))
+    tree, runs = start("nav2", w)
+    status, _ = run_tree(tree, w)
+    assert status == F and w.planner.calls == 1
+    assert w.global_costmap.resets == w.local_costmap.resets == 0
+    # controller failures: the local costmap is cleared in context, then global recoveries
+    w = World(controller=ScriptedController(fail_always=True))
+    tree, runs = start("nav2", w)
+    status, _ = run_tree(tree, w)
+    assert status == F
+    assert w.controller.calls == 7 * 2
+    assert w.local_costmap.resets == 7 + 2 and w.global_costmap.resets == 2
+
+
+def _boxed_in_world() -> World:
+    """No valid command toward the goal while the robot is within 0.35 m of where it started;
+    any other plan (a way out) can be followed. Clearing and turning on the spot do not help."""
+    w = World()
+
+    class Boxed(ScriptedController):
+        def compute_velocity(self, pose, velocity, path=None):
+            res = super().compute_velocity(pose, velocity, path)
+            aims_at_goal = self.plan is not None and self.plan.pose(len(self.plan) - 1) == GOAL
+            if aims_at_goal and pose.distance_to(Pose2D()) < 0.35:
+                return type(res)(res.cmd.__class__.zero(), "no_valid_trajectory")
+            return res
+
+    w.controller = Boxed(parameters=w.parameters["DWAPlannerROS"])
+    return w
+
+
+def test_smach_recovers_where_move_base_gives_up():
+    w = _boxed_in_world()
+    tree, runs = start("move_base", w)
+    status, _ = run_tree(tree, w, max_ticks=20000)
+    assert status == F and runs.done["Spin"] == 2          # every move_base recovery ran
+    w = _boxed_in_world()
+    tree, runs = start("smach_recovery", w)
+    status, _ = run_tree(tree, w, max_ticks=20000)
+    assert status == S and w.robot.pose().distance_to(GOAL) <= 0.1
+    assert runs.done["TemporaryGoal"] == 1
+
+
+def test_near_goal_reconfigure_lowers_the_bias_only_near_the_goal():
+    w = World()
+    tree, _ = start("near_goal_reconfigure", w)
+    status, _ = run_tree(tree, w)
+    assert status == S
+    log = w.controller.bias_log
+    assert log[0] == 32.0 and log[-1] == 8.0
+    first_near = log.index(8.0)
+    assert set(log[first_near:]) == {8.0}                   # stays lowered once near
+    assert w.parameters["DWAPlannerROS"].path_distance_bias == 32.0   # restored at the end
