@@ -1,0 +1,188 @@
+"""ros_arduino_bridge base driver: implements ``hw.interfaces.Base`` for home-built bases.
+
+A polled protocol: at ``base_controller_rate`` the driver asks for the encoders (``e``) and writes
+the wheel targets (``m``). One request is in flight at a time, so each reply is checked against
+the shape its request expects (there is no echo or checksum); a mismatch clears the line.
+Encoder steps larger than the wheels can make are refused. The watchdog writes ``m 0 0`` once no
+``send`` came for ``base_controller_timeout``.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import deque
+from typing import Any, Mapping
+
+import numpy as np
+import serial
+
+from hw.drivers import arduino_codec as ac
+from hw.drivers.serial_link import HandshakeError, SerialDriver, wire_deadline
+from hw.interfaces import BaseEvents, BatteryState
+from navcore.clock import Clock
+from navcore.params import Param, Parameters
+from navcore.types import Odometry, Pose2D, Twist, normalize_angle
+
+# ros_arduino_python's parameter names and defaults (arduino_params.yaml).
+ARDUINO_PARAMS = (
+    Param("baud", 57600, int, "bit rate of the Arduino's serial port", 9600, 1000000),
+    Param("base_controller_rate", 10.0, float, "encoder polls and motor writes per second (Hz)",
+          1.0, 100.0),
+    Param("base_controller_timeout", 1.0, float, "stop the motors when no command came for this "
+          "long (s)", 0.05, 10.0),
+    Param("wheel_diameter", 0.146, float, "m", 0.01, 2.0),
+    Param("wheel_track", 0.2969, float, "distance between the wheels (m)", 0.01, 5.0),
+    Param("encoder_resolution", 8384, int, "ticks per wheel revolution", 1, 10**7),
+    Param("gear_reduction", 1.0, float, "motor turns per wheel turn", 0.01, 1000.0),
+    Param("motors_reversed", False, bool, "swap the sign of both motors and encoders"),
+    Param("Kp", 20, int, "PID proportional gain"),
+    Param("Kd", 12, int, "PID derivative gain"),
+    Param("Ki", 0, int, "PID integral gain"),
+    Param("Ko", 50, int, "PID output scale"),
+    Param("max_wheel_speed", 3.0, float, "fastest plausible wheel speed (m/s); larger encoder "
+          "steps are refused as corrupt", 0.1, 50.0),
+)
+
+
+class ArduinoBaseDriver(SerialDriver):
+    """A ros_arduino_bridge base on ``url``. ``send`` never blocks."""
+
+    def __init__(self, url: str, clock: Clock, params: Mapping[str, Any] | None = None) -> None:
+        self.params = Parameters(ARDUINO_PARAMS, params or {}, "arduino")
+        p = self.params
+        super().__init__(url, clock, p.baud, silence_timeout=max(1.0, 5.0 / p.base_controller_rate),
+                         name="arduino")
+        self.geometry = ac.Geometry(p.wheel_diameter, p.wheel_track, p.encoder_resolution,
+                                    p.gear_reduction)
+        self._lines = ac.LineDecoder(b"\r")
+        self._pending: deque[tuple[str, float]] = deque()
+        self._wlock = threading.Lock()
+        self._cmd, self._cmd_stamp = Twist(), -np.inf
+        self._sent: tuple[int, int] | None = None
+        self._next_poll = -np.inf
+        self._enc: tuple[int, int] | None = None
+        self._enc_stamp = 0.0
+        self._pose = Pose2D()
+        self._odom: Odometry | None = None
+
+    # -- Base interface ------------------------------------------------------------------------
+    def send(self, cmd: Twist) -> None:
+        with self._wlock:
+            self._cmd, self._cmd_stamp = cmd, self.clock.now()
+
+    def odometry(self) -> Odometry | None:
+        with self._lock:
+            return self._odom
+
+    def battery(self) -> BatteryState | None:
+        return None          # the bridge has no battery monitor
+
+    def events(self) -> BaseEvents:
+        return BaseEvents()  # nor contact sensors
+
+    def commanded(self) -> tuple[int, int] | None:
+        """The (left, right) ticks per PID frame last written."""
+        return self._sent
+
+    # -- start-up ------------------------------------------------------------------------------
+    def _ask(self, port: serial.SerialBase, line: bytes, tries: int = 3) -> str:
+        for _ in range(tries):
+            port.write(line)
+            dec = ac.LineDecoder(b"\r")
+            deadline = wire_deadline(0.3)
+            while not deadline.expired():
+                got = dec.feed(port.read(max(1, port.in_waiting)))
+                if got:
+                    return got[0]
+        raise HandshakeError(f"no reply to {line!r}")
+
+    def _handshake(self, port: serial.SerialBase) -> None:
+        port.write(b"\r")                      # end whatever half command is in the buffer
+        port.reset_input_buffer()
+        for _ in range(3):
+            reply = self._ask(port, ac.command("b"))
+            if reply.strip() == str(ac.BAUDRATE) or reply.strip().isdigit():
+                break
+        else:
+            raise HandshakeError(f"baud query answered {reply!r}")
+        p = self.params
+        try:
+            ac.expect_ok(self._ask(port, ac.pid_command(p.Kp, p.Kd, p.Ki, p.Ko)))
+            ac.expect_ok(self._ask(port, ac.motor_command(0, 0)))
+            self._enc = self._sign(ac.parse_encoders(self._ask(port, ac.command("e"))))
+        except ac.ArduinoError as e:
+            raise HandshakeError(str(e)) from None
+        self._enc_stamp = self.clock.now()
+        self._sent = (0, 0)
+        self._pending.clear()
+        self._lines.reset()
+
+    def _sign(self, pair: tuple[int, int]) -> tuple[int, int]:
+        return (-pair[0], -pair[1]) if self.params.motors_reversed else pair
+
+    def _on_close(self, port: serial.SerialBase) -> None:
+        port.write(ac.motor_command(0, 0))
+        self._sent = (0, 0)
+
+    # -- polling -------------------------------------------------------------------------------
+    def _on_tick(self, port: serial.SerialBase) -> None:
+        now = self.clock.now()
+        p = self.params
+        if self._pending and now - self._pending[0][1] > 2.0 / p.base_controller_rate:
+            self._pending.clear()              # a reply went missing: start afresh
+            self._lines.reset()
+            port.reset_input_buffer()
+        with self._wlock:
+            cmd, stamp = self._cmd, self._cmd_stamp
+        if now - stamp > p.base_controller_timeout:
+            cmd = Twist()
+        targets = self._sign(self.geometry.wheel_targets(cmd.vx, cmd.wz))
+        urgent = targets != self._sent and targets == (0, 0)    # stops do not wait for a poll
+        if (now < self._next_poll and not urgent) or self._pending:
+            return
+        self._next_poll = now + 1.0 / p.base_controller_rate
+        port.write(ac.motor_command(*targets))
+        self._pending.append(("ok", now))
+        self._sent = targets
+        port.write(ac.command("e"))
+        self._pending.append(("enc", now))
+
+    def _on_bytes(self, data: bytes) -> None:
+        for line in self._lines.feed(data):
+            if not self._pending:
+                self._reject(f"unsolicited reply {line!r}")
+                continue
+            kind, _ = self._pending.popleft()
+            try:
+                if kind == "ok":
+                    ac.expect_ok(line)
+                else:
+                    self._take_encoders(self._sign(ac.parse_encoders(line)))
+            except ac.ArduinoError as e:
+                self._reject(str(e))
+                self._pending.clear()          # replies may now be out of step: resync
+                self._lines.reset()
+
+    def _take_encoders(self, enc: tuple[int, int]) -> None:
+        now = self.clock.now()
+        last, dt = self._enc, now - self._enc_stamp
+        g = self.geometry
+        if last is not None:
+            dl = (enc[0] - last[0]) / g.ticks_per_meter
+            dr = (enc[1] - last[1]) / g.ticks_per_meter
+            limit = self.params.max_wheel_speed * max(dt, 1.0 / self.params.base_controller_rate) \
+                * 2.0 + 0.01
+            if abs(dl) > limit or abs(dr) > limit:
+                raise ac.ArduinoError(f"encoder step {dl:.3f}/{dr:.3f} m exceeds {limit:.3f} m")
+            ds, dth = (dl + dr) / 2.0, (dr - dl) / g.wheel_track
+            mid = self._pose.theta + dth / 2.0
+            self._pose = Pose2D(self._pose.x + ds * math.cos(mid),
+                                self._pose.y + ds * math.sin(mid),
+                                normalize_angle(self._pose.theta + dth))
+            twist = Twist(ds / dt, 0.0, dth / dt) if dt > 0 else Twist()
+            with self._lock:
+                self._odom = Odometry(now, self._pose, twist)
+        self._enc, self._enc_stamp = enc, now
+        self.delivered += 1
+        self.mark_valid()
