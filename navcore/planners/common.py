@@ -42,14 +42,8 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
     return float(gx.flat[k]), float(gy.flat[k])
 
 
-def diagnose(pot: np.ndarray, passable: np.ndarray, nx: int, ny: int, start_cell: tuple[int, int],
-             goal_cell: tuple[int, int] | None) -> str:
-    """Why no plan: the goal cell impassable, the start boxed in, or no connection."""
+def diagnose(passable: np.ndarray, goal_cell: tuple[int, int] | None, updates: int) -> str:
+    """Why no plan: the goal cell impassable, the wave never left the start, or no connection."""
     if goal_cell is not None and not passable[goal_cell[1], goal_cell[0]]:
         return "goal_occupied"
-    sx, sy = start_cell
-    reached_any = False
-    for x, y in ((sx - 1, sy), (sx + 1, sy), (sx, sy - 1), (sx, sy + 1)):
-        if 0 < x < nx - 1 and 0 < y < ny - 1 and pot[y * nx + x] < POT_HIGH:
-            reached_any = True
-    return "no_path" if reached_any else "start_occupied"
+    return "no_path" if updates > 0 else "start_occupied"

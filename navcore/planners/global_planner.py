@@ -107,7 +107,12 @@ class GlobalPlanner:
             return None
         if self.params.old_navfn_behavior:
             return float(c[0]), float(c[1])
-        return ((w.x - cm.origin_x) / cm.resolution - 0.5, (w.y - cm.origin_y) / cm.resolution - 0.5)
+        # snap values within 1e-9 of a whole cell: a cell centre must not land in the cell below
+        # through rounding (4.425 / 0.05 - 0.5 = 87.99999999999999)
+        mx = (w.x - cm.origin_x) / cm.resolution - 0.5
+        my = (w.y - cm.origin_y) / cm.resolution - 0.5
+        rx, ry = round(mx), round(my)
+        return (rx if abs(mx - rx) < 1e-9 else mx), (ry if abs(my - ry) < 1e-9 else my)
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):
@@ -164,7 +169,7 @@ class GlobalPlanner:
             best = search_tolerance(cm, ws.pot, goal, p.default_tolerance) \
                 if p.default_tolerance > 0.0 else None
             if best is None:
-                return PlanResult.failure(diagnose(ws.pot, passable, nx, ny, sc, gc), potential)
+                return PlanResult.failure(diagnose(passable, gc, self.last_updates), potential)
             goal_pose = Pose2D(best[0], best[1], goal.theta)
             g = self._to_map(goal_pose)
             gc = cm.world_to_map(goal_pose.x, goal_pose.y)

@@ -95,7 +95,7 @@ class NavFn:
         best = search_tolerance(cm, ws.pot, goal, tol)
         if best is None:
             passable = lut[cm.costs] < COST_OBS
-            return PlanResult.failure(diagnose(ws.pot, passable, nx, ny, sc, gc), potential)
+            return PlanResult.failure(diagnose(passable, gc, self.last_updates), potential)
         bc = cm.world_to_map(*best)
         ok, xy = gradient_path(ws.pot, nx, ny, float(bc[0]), float(bc[1]), STOP_NEAR_NEUTRAL,
                                float(sc[0]), float(sc[1]), max(4 * nx, nx * ny // 2),

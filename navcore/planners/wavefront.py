@@ -10,6 +10,8 @@ Two deliberate differences from the C++ (both fix real faults, neither changes a
 
 * The buffers hold the whole map, so no push is ever dropped (ROS caps them at 10000 and silently
   loses cells on large open maps).
+* A cell waiting in the overflow buffer is also queued for the current band when a cell below the
+  threshold can lower it (ROS leaves it waiting, so the band can end with it unfinished).
 * The search stops when a threshold band is exhausted with the target's potential below it, not at
   the first cycle that touches the target. Every update only raises potential (by at least 0.704
   of a cell cost), so all cells below a finished band are final: the target's potential is the
@@ -17,7 +19,7 @@ Two deliberate differences from the C++ (both fix real faults, neither changes a
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
 planner's cost transform), so no transformed copy of the map is made per plan. Cells whose
-``pending`` flag is 2 (the outer border) are never queued: that is navfn's border of COST_OBS and
+``pending`` flag is 3 (the outer border) are never queued: that is navfn's border of COST_OBS and
 global_planner's ``outline_map`` without writing into the shared costmap.
 """
 
@@ -52,6 +54,13 @@ _INVSQRT2 = np.float32(INVSQRT2)
 
 
 @njit(cache=True)
+def _grown(buf: np.ndarray) -> np.ndarray:
+    big = np.empty(2 * buf.shape[0], buf.dtype)
+    big[: buf.shape[0]] = buf
+    return big
+
+
+@njit(cache=True)
 def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int,
               pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
               buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
@@ -60,7 +69,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
     ``costs`` is the flat uint8 costmap, ``lut[c]`` the cell cost (>= ``block``: impassable).
-    ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 2 on the
+    ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 3 on the
     border. Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
     ``(reached, cell_updates, cycles)``.
     """
@@ -127,33 +136,37 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
             else:
                 to_next = p + _heuristic(n, nx, hkind, hscale, tx, ty) < t
             # navfn's push rule, neighbours in its order: left, right, -nx, +nx (unrolled by
-            # hand: a helper taking the arrays costs refcounting in the hot loop)
+            # hand: a helper taking the arrays costs refcounting in the hot loop). pending is
+            # 0 idle, 1 queued in current/next, 2 queued in overflow, 3 border (never queued).
+            # A cell waiting in overflow that a below-threshold cell can lower is queued in next
+            # as well, so the band finishes it (ROS leaves it for the next band); its overflow
+            # entry becomes a harmless repeat, the only way overflow can outgrow the map.
             if to_next:
                 if l > p:  # cheap test first: neighbours behind the wave fail here
                     m = n - one
                     cm = lut[costs[m]]
-                    if l > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
+                    if l > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
                         pending[m] = 1
                         nxt[nnext] = m
                         nnext += 1
                 if r > p:  # cheap test first: neighbours behind the wave fail here
                     m = n + one
                     cm = lut[costs[m]]
-                    if r > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
+                    if r > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
                         pending[m] = 1
                         nxt[nnext] = m
                         nnext += 1
                 if u > p:  # cheap test first: neighbours behind the wave fail here
                     m = n - unx
                     cm = lut[costs[m]]
-                    if u > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
+                    if u > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
                         pending[m] = 1
                         nxt[nnext] = m
                         nnext += 1
                 if d > p:  # cheap test first: neighbours behind the wave fail here
                     m = n + unx
                     cm = lut[costs[m]]
-                    if d > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
+                    if d > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
                         pending[m] = 1
                         nxt[nnext] = m
                         nnext += 1
@@ -162,28 +175,36 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
                     m = n - one
                     cm = lut[costs[m]]
                     if l > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 1
+                        pending[m] = 2
+                        if nover == over.shape[0]:
+                            over = _grown(over)
                         over[nover] = m
                         nover += 1
                 if r > p:  # cheap test first: neighbours behind the wave fail here
                     m = n + one
                     cm = lut[costs[m]]
                     if r > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 1
+                        pending[m] = 2
+                        if nover == over.shape[0]:
+                            over = _grown(over)
                         over[nover] = m
                         nover += 1
                 if u > p:  # cheap test first: neighbours behind the wave fail here
                     m = n - unx
                     cm = lut[costs[m]]
                     if u > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 1
+                        pending[m] = 2
+                        if nover == over.shape[0]:
+                            over = _grown(over)
                         over[nover] = m
                         nover += 1
                 if d > p:  # cheap test first: neighbours behind the wave fail here
                     m = n + unx
                     cm = lut[costs[m]]
                     if d > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 1
+                        pending[m] = 2
+                        if nover == over.shape[0]:
+                            over = _grown(over)
                         over[nover] = m
                         nover += 1
         tmp = cur
@@ -209,14 +230,14 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
 
 
 def reset_buffers(pot: np.ndarray, pending: np.ndarray, nx: int, ny: int) -> None:
-    """POT_HIGH everywhere, pending 0 inside and 2 (never queued) on the outer border."""
+    """POT_HIGH everywhere, pending 0 inside and 3 (never queued) on the outer border."""
     pot.fill(POT_HIGH)
     pending.fill(0)
     p2 = pending.reshape(ny, nx)
-    p2[0, :] = 2
-    p2[-1, :] = 2
-    p2[:, 0] = 2
-    p2[:, -1] = 2
+    p2[0, :] = 3
+    p2[-1, :] = 3
+    p2[:, 0] = 3
+    p2[:, -1] = 3
 
 
 class Workspace:
@@ -232,7 +253,8 @@ class Workspace:
         self.shape = (nx, ny)
         self.pot = np.empty(ns, np.float32)
         self.pending = np.empty(ns, np.uint8)
-        # Whole-map queues: a cell is in at most one of them at a time, so none can overflow.
+        # Whole-map queues: current and next hold a cell at most once, so they cannot overflow;
+        # the overflow queue grows itself in the rare case its repeats outgrow the map.
         # np.empty does not touch the pages, so unused queue space costs no time.
         self.buf_a = np.empty(ns, np.int32)
         self.buf_b = np.empty(ns, np.int32)

@@ -1,0 +1,372 @@
+"""Global planners: reasons instead of exceptions, exact Dijkstra/A* against a plain graph search,
+paths clear of lethal cells, no dropped cells on big open maps, carrot planner, make_planner."""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+import pytest
+
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.params import ParameterError
+from navcore.planners import (PLANNER_KINDS, CarrotPlanner, GlobalPlanner, NavFn, PlanResult,
+                              make_planner)
+from navcore.planners.global_planner import global_planner_cost_table
+from navcore.planners.navfn import navfn_cost_table
+from navcore.types import Pose2D
+
+RES = 0.1
+
+
+def centre(cm: Costmap2D, mx: int, my: int, theta: float = 0.0) -> Pose2D:
+    return Pose2D(*cm.map_to_world(mx, my), theta)
+
+
+def walled(nx: int, ny: int) -> Costmap2D:
+    """Open costmap with a vertical lethal wall x = nx//2 for y < ny-6 (a gap at the top)."""
+    cm = Costmap2D(nx, ny, RES)
+    cm.costs[: ny - 6, nx // 2] = 254
+    return cm
+
+
+def reference_dijkstra(cell_cost: np.ndarray, passable: np.ndarray, start: tuple[int, int]
+                       ) -> np.ndarray:
+    """Plain 4-connected node-weighted Dijkstra with heapq: entering a cell costs its cost."""
+    ny, nx = cell_cost.shape
+    dist = np.full((ny, nx), np.inf)
+    sx, sy = start
+    dist[sy, sx] = 0.0
+    heap = [(0.0, sx, sy)]
+    while heap:
+        d, x, y = heapq.heappop(heap)
+        if d > dist[y, x]:
+            continue
+        for ax, ay in ((x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)):
+            if 0 < ax < nx - 1 and 0 < ay < ny - 1 and passable[ay, ax]:
+                nd = d + cell_cost[ay, ax]
+                if nd < dist[ay, ax]:
+                    dist[ay, ax] = nd
+                    heapq.heappush(heap, (nd, ax, ay))
+    return dist
+
+
+def random_costmap(rng: np.random.Generator, nx: int, ny: int) -> Costmap2D:
+    cm = Costmap2D(nx, ny, RES)
+    c = rng.integers(0, 253, size=(ny, nx)).astype(np.uint8)
+    c[rng.random((ny, nx)) < 0.45] = 0
+    c[rng.random((ny, nx)) < 0.18] = 254
+    c[rng.random((ny, nx)) < 0.04] = 255
+    cm.costs[:] = c
+    return cm
+
+
+# ---------------------------------------------------------------- reasons, never exceptions
+
+@pytest.mark.parametrize("kind", ["navfn/NavfnROS", "global_planner/GlobalPlanner"])
+def test_grid_planners_give_reasons_instead_of_raising(kind: str) -> None:
+    cm = walled(40, 30)
+    p = make_planner(kind, cm)
+    ok = p.make_plan(centre(cm, 3, 3), centre(cm, 36, 3))
+    assert ok.ok and ok.reason == "" and len(ok.path) > 2
+    assert p.make_plan(Pose2D(-1.0, 0.5), centre(cm, 36, 3)).reason == "start_outside_map"
+    assert p.make_plan(centre(cm, 3, 3), Pose2D(4.1, 0.5)).reason == "goal_outside_map"
+    assert p.make_plan(centre(cm, 3, 3), centre(cm, 20, 10)).reason == "goal_occupied"
+    assert p.make_plan(Pose2D(math.nan, 0.2), centre(cm, 36, 3)).reason == "invalid_pose"
+    # close the gap: the two halves are no longer connected
+    cm.costs[:, 20] = 254
+    assert p.make_plan(centre(cm, 3, 3), centre(cm, 36, 3)).reason == "no_path"
+    # box the robot in: every neighbour lethal
+    cm.costs[:] = 0
+    cm.costs[7:14, 7:14] = 254
+    cm.costs[10, 10] = 0
+    r = p.make_plan(centre(cm, 10, 10), centre(cm, 36, 3))
+    assert (r.ok, r.path, r.reason) == (False, None, "start_occupied")
+    # the costmap may change size between calls
+    cm.resize(60, 50, RES, 0.0, 0.0)
+    assert p.make_plan(centre(cm, 3, 3), centre(cm, 55, 45)).ok
+
+
+def test_planner_never_raises_on_internal_error() -> None:
+    cm = walled(40, 30)
+    p = NavFn(cm)
+    cm.costs = np.zeros((30, 40), np.float64)  # a broken costmap: wrong dtype reaches the kernel
+    r = p.make_plan(centre(cm, 3, 3), centre(cm, 36, 3))
+    assert not r.ok and r.reason.startswith("planner_error")
+
+
+def test_params_are_ros_names_with_effective_defaults() -> None:
+    cm = walled(20, 20)
+    nf, gp = NavFn(cm), GlobalPlanner(cm)
+    assert (nf.params.allow_unknown, nf.params.default_tolerance, nf.params.visualize_potential) \
+        == (True, 0.0, False)
+    assert (gp.params.use_dijkstra, gp.params.use_quadratic, gp.params.use_grid_path,
+            gp.params.old_navfn_behavior) == (True, True, False, False)
+    assert (gp.params.lethal_cost, gp.params.neutral_cost, gp.params.cost_factor) == (253, 50, 3.0)
+    assert (gp.params.orientation_mode, gp.params.orientation_window_size) == (1, 1)
+    with pytest.raises(ParameterError, match="cost_factor"):
+        GlobalPlanner(cm, {"cost_factor": 9.0})
+    with pytest.raises(ParameterError, match="did you mean 'use_dijkstra'"):
+        GlobalPlanner(cm, {"use_dijkstr": True})
+
+
+def test_make_planner_kinds_and_suggestion() -> None:
+    cm = walled(20, 20)
+    assert isinstance(make_planner("navfn/NavfnROS", cm), NavFn)
+    assert isinstance(make_planner("global_planner/GlobalPlanner", cm, {"cost_factor": 0.55}),
+                      GlobalPlanner)
+    carrot = make_planner("carrot_planner/CarrotPlanner", cm, footprint_cost=lambda x, y, t: 0)
+    assert isinstance(carrot, CarrotPlanner)
+    assert len(PLANNER_KINDS) == 3
+    with pytest.raises(ValueError, match="did you mean 'navfn/NavfnROS'"):
+        make_planner("navfn/NavFnROS", cm)
+    with pytest.raises(ValueError, match="footprint_cost"):
+        make_planner("carrot_planner/CarrotPlanner", cm)
+
+
+# ---------------------------------------------------------------- cost transforms
+
+def test_navfn_cost_transform() -> None:
+    t = navfn_cost_table(allow_unknown=True)
+    assert t[0] == 50 and t[100] == 130 and t[252] == 251  # 50 + 0.8 v, truncated
+    assert t[253] == 254 and t[254] == 254  # inscribed and lethal: impassable
+    assert t[255] == 253  # unknown: the dearest passable value
+    assert navfn_cost_table(allow_unknown=False)[255] == 254
+
+
+def test_global_planner_cost_transform() -> None:
+    t = global_planner_cost_table(253, 50, 3.0, True)
+    assert t[0] == 50 and t[10] == 80 and t[67] == 251 and t[68] == 252  # saturates at lethal-1
+    assert t[251] == 252 and t[252] == 253 and t[254] == 253 and t[255] == 252
+    assert global_planner_cost_table(253, 50, 3.0, False)[255] == 253
+
+
+# ---------------------------------------------------------------- optimality
+
+@pytest.mark.parametrize("use_dijkstra", [True, False])
+def test_dijkstra_and_astar_costs_are_optimal_on_random_grids(use_dijkstra: bool) -> None:
+    rng = np.random.default_rng(7 if use_dijkstra else 8)
+    checked = 0
+    for trial in range(25):
+        nx, ny = int(rng.integers(8, 30)), int(rng.integers(8, 30))
+        cm = random_costmap(rng, nx, ny)
+        params = {"use_dijkstra": use_dijkstra, "use_quadratic": False, "use_grid_path": True,
+                  "old_navfn_behavior": True, "cost_factor": float(rng.uniform(0.3, 3.0)),
+                  "neutral_cost": int(rng.integers(10, 80))}
+        gp = GlobalPlanner(cm, params)
+        lut = global_planner_cost_table(253, params["neutral_cost"], params["cost_factor"], True)
+        cell_cost = np.floor(lut[cm.costs]).astype(np.float64)  # the C++ hands it over as uchar
+        passable = lut[cm.costs] < 253
+        for _ in range(6):
+            s = (int(rng.integers(1, nx - 1)), int(rng.integers(1, ny - 1)))
+            g = (int(rng.integers(1, nx - 1)), int(rng.integers(1, ny - 1)))
+            if s == g or not passable[g[1], g[0]]:
+                continue
+            ref = reference_dijkstra(cell_cost, passable, s)
+            r = gp.make_plan(centre(cm, *s), centre(cm, *g))
+            pot = r.potential
+            if math.isinf(ref[g[1], g[0]]):
+                assert not r.ok and r.reason in ("no_path", "start_occupied")
+                continue
+            assert r.ok, (trial, s, g, r.reason)
+            checked += 1
+            # the goal's potential is the least path cost, to float32 precision
+            assert pot[g[1], g[0]] == pytest.approx(ref[g[1], g[0]], rel=1e-5)
+            if use_dijkstra:
+                # and so is every cell cheaper than the goal (the field is exact, not first-touch)
+                below = ref < ref[g[1], g[0]]
+                np.testing.assert_allclose(pot[below], ref[below], rtol=1e-5)
+            # the grid path descends strictly from the goal to the start, clear of lethal cells
+            cells = np.floor(r.path.poses[:-1, :2] / RES).astype(int)
+            vals = pot[cells[:, 1], cells[:, 0]]
+            assert (cells[0] == s).all() and (cells[-1] == g).all()
+            assert np.all(np.diff(vals) > 0)
+            assert np.all(passable[cells[1:, 1], cells[1:, 0]])  # the robot cell may be anything
+            steps = np.abs(np.diff(cells, axis=0)).max(axis=1)
+            assert np.all(steps == 1)  # 8-connected, no jumps
+    assert checked >= 40
+
+
+def test_quadratic_wavefront_matches_plain_update_in_a_corridor() -> None:
+    """Along a 1-cell-wide corridor the quadratic update degenerates to the plain sum."""
+    cm = Costmap2D(40, 3, RES)
+    cm.costs[:] = 254
+    cm.costs[1, 1:39] = 10
+    r = GlobalPlanner(cm, {"old_navfn_behavior": True}).make_plan(centre(cm, 2, 1), centre(cm, 30, 1))
+    assert r.ok
+    per_cell = 10 * 3.0 + 50
+    np.testing.assert_allclose(r.potential[1, 2:31], per_cell * np.arange(29), rtol=1e-6)
+
+
+# ---------------------------------------------------------------- paths
+
+def _office_like(rng: np.random.Generator, n: int) -> Costmap2D:
+    cm = Costmap2D(n, n, 0.05)
+    c = np.zeros((n, n), np.uint8)
+    for _ in range(n // 6):
+        x, y = rng.integers(2, n - 8, size=2)
+        w, h = rng.integers(1, 7, size=2)
+        c[y:y + h, x:x + w] = 254
+    # graded cost around obstacles (a cheap inflation: 3 cells of decreasing cost)
+    lethal = c == 254
+    out = c.copy()
+    for k, v in ((1, 253), (2, 150), (3, 60)):
+        grown = lethal.copy()
+        for _ in range(k):
+            g2 = grown.copy()
+            g2[1:] |= grown[:-1]
+            g2[:-1] |= grown[1:]
+            g2[:, 1:] |= grown[:, :-1]
+            g2[:, :-1] |= grown[:, 1:]
+            grown = g2
+        out = np.where(grown & (out < v), v, out)
+    cm.costs[:] = out
+    return cm
+
+
+@pytest.mark.parametrize("kind,params", [
+    ("navfn/NavfnROS", {}),
+    ("global_planner/GlobalPlanner", {}),
+    ("global_planner/GlobalPlanner", {"use_dijkstra": False}),
+    ("global_planner/GlobalPlanner", {"use_grid_path": True, "use_dijkstra": False}),
+    ("global_planner/GlobalPlanner", {"old_navfn_behavior": True, "use_quadratic": False}),
+])
+def test_paths_connect_start_to_goal_and_never_touch_lethal_cells(kind: str, params: dict) -> None:
+    rng = np.random.default_rng(3)
+    cm = _office_like(rng, 120)
+    p = make_planner(kind, cm, params)
+    corner = 0.0 if kind.startswith("navfn") or params.get("old_navfn_behavior") else 0.5
+    found = 0
+    for _ in range(12):
+        s, g = rng.integers(2, 118, size=(2, 2))
+        if cm.costs[s[1], s[0]] != 0 or cm.costs[g[1], g[0]] != 0:
+            continue
+        start, goal = centre(cm, *s, 0.3), centre(cm, *g, -1.2)
+        r = p.make_plan(start, goal)
+        if not r.ok:
+            assert r.reason == "no_path"
+            continue
+        found += 1
+        xy = r.path.poses[:, :2]
+        assert tuple(r.path.poses[-1]) == pytest.approx((goal.x, goal.y, goal.theta))
+        assert np.hypot(*(xy[0] - (start.x, start.y))) <= 0.05 * 0.75
+        # each pose's own cell (cell i sits at coordinate i + corner) is never lethal
+        cells = np.floor((xy - 0.05 * (0.5 - corner)) / 0.05 + 0.5).astype(int)
+        assert np.all(cm.costs[cells[:, 1], cells[:, 0]] < 254)
+        assert np.all(np.hypot(*np.diff(xy, axis=0).T) <= 0.05 * 1.5)  # no jumps
+    assert found >= 5
+
+
+def test_gradient_path_is_shorter_than_grid_path_and_close_to_straight() -> None:
+    cm = Costmap2D(200, 200, 0.05)
+    start, goal = centre(cm, 10, 10), centre(cm, 190, 150)
+    straight = start.distance_to(goal)
+    grad = GlobalPlanner(cm).make_plan(start, goal)
+    grid = GlobalPlanner(cm, {"use_grid_path": True}).make_plan(start, goal)
+    nav = NavFn(cm).make_plan(start, goal)
+    assert grad.ok and grid.ok and nav.ok
+    assert grad.path.length() < straight * 1.03
+    assert nav.path.length() < straight * 1.03
+    assert grid.path.length() > grad.path.length()
+
+
+def test_navfn_default_tolerance_plans_to_the_nearest_reachable_point() -> None:
+    cm = walled(40, 30)
+    goal = centre(cm, 20, 10)  # inside the wall
+    assert NavFn(cm).make_plan(centre(cm, 3, 3), goal).reason == "goal_occupied"
+    r = NavFn(cm, {"default_tolerance": 0.25}).make_plan(centre(cm, 3, 3), goal)
+    assert r.ok
+    end = r.path.pose(len(r.path) - 1)
+    assert 0.05 < end.distance_to(goal) <= 0.15 and end.theta == goal.theta
+    off_map = Pose2D(4.05, 1.0)  # just off the right edge: reachable within tolerance
+    assert NavFn(cm).make_plan(centre(cm, 3, 3), off_map).reason == "goal_outside_map"
+    assert NavFn(cm, {"default_tolerance": 0.3}).make_plan(centre(cm, 3, 3), off_map).ok
+
+
+def test_global_planner_default_tolerance() -> None:
+    cm = walled(40, 30)
+    goal = centre(cm, 20, 10)
+    assert GlobalPlanner(cm).make_plan(centre(cm, 3, 3), goal).reason == "goal_occupied"
+    r = GlobalPlanner(cm, {"default_tolerance": 0.25}).make_plan(centre(cm, 3, 3), goal)
+    assert r.ok and r.path.pose(len(r.path) - 1).distance_to(goal) <= 0.15
+
+
+def test_orientation_modes() -> None:
+    cm = Costmap2D(100, 60, 0.05)
+    start, goal = Pose2D(0.5, 0.5, 2.0), Pose2D(4.5, 0.5, -1.0)  # straight along +x
+
+    def plan(mode: int) -> np.ndarray:
+        r = GlobalPlanner(cm, {"orientation_mode": mode}).make_plan(start, goal)
+        assert r.ok
+        return r.path.poses[:, 2]
+
+    fwd = plan(1)
+    assert np.allclose(fwd[:-1], 0.0, atol=0.02) and fwd[-1] == pytest.approx(-1.0)
+    assert np.allclose(plan(0)[:-1], 0.0) and plan(0)[-1] == pytest.approx(-1.0)
+    assert np.allclose(plan(4)[:-1] % (2 * np.pi), np.pi, atol=0.02)  # backward
+    assert np.allclose(plan(5)[:-1], -np.pi / 2, atol=0.02)  # leftward: left side leads
+    assert np.allclose(plan(6)[:-1], np.pi / 2, atol=0.02)
+    interp = plan(2)
+    assert interp[0] == pytest.approx(2.0) and interp[-1] == pytest.approx(-1.0)
+    steps = np.diff(np.unwrap(interp))
+    assert np.allclose(steps, steps[0])  # evenly spread turn, shortest way (-3.0 rad)
+    assert np.unwrap(interp)[-1] - interp[0] == pytest.approx(-3.0)
+    fti = plan(3)
+    assert fti[0] == pytest.approx(2.0) and fti[-1] == pytest.approx(-1.0)
+
+
+# ---------------------------------------------------------------- no dropped cells
+
+def test_open_map_wavefront_reaches_every_cell() -> None:
+    """ROS's 10000-cell queues drop cells on big open maps (168 cells on 4000^2 from the centre);
+    a 3300^2 map seeded at its centre has a front longer than 10000 cells."""
+    n = 3300
+    cm = Costmap2D(n, n, 0.05)
+    cm.costs[n // 2 + 700, n // 2 + 700] = 254  # goal in a lethal cell: the wave covers everything
+    nf = NavFn(cm, {"visualize_potential": True})
+    r = nf.make_plan(centre(cm, n // 2, n // 2), centre(cm, n // 2 + 700, n // 2 + 700))
+    assert r.reason == "goal_occupied"
+    inner = r.potential[1:-1, 1:-1]
+    assert int(np.count_nonzero(inner >= 1e10)) == 1  # only the lethal cell
+    # potential grows with distance like a wave front (50 per cell)
+    assert r.potential[n // 2, n // 2 + 1000] == pytest.approx(50 * 1000, rel=0.01)
+
+
+# ---------------------------------------------------------------- carrot planner
+
+def test_carrot_planner_walks_back_to_the_first_free_pose() -> None:
+    cm = Costmap2D(100, 100, 0.05)
+    cm.costs[40:60, 60:80] = 254  # a block between x 3.0 and 4.0 m
+
+    def footprint_cost(x: float, y: float, theta: float) -> int:
+        c = cm.world_to_map(x, y)
+        if c is None:
+            return -1
+        # a 0.1 m "footprint": the max over a 5x5 block
+        return int(cm.costs[max(c[1] - 2, 0):c[1] + 3, max(c[0] - 2, 0):c[0] + 3].max())
+
+    cp = CarrotPlanner(cm, footprint_cost)
+    assert cp.params.step_size == 0.05 and cp.params.min_dist_from_robot == 0.10
+    start = Pose2D(1.0, 2.5, 0.0)
+    free = cp.make_plan(start, Pose2D(2.0, 2.5, 1.0))
+    assert free.ok and len(free.path) == 2
+    assert tuple(free.path.poses[1]) == pytest.approx((2.0, 2.5, 1.0))
+    r = cp.make_plan(start, Pose2D(3.5, 2.5, 1.0))
+    assert r.ok
+    x, y, th = r.path.poses[1]
+    assert y == pytest.approx(2.5) and 2.85 <= x < 2.95  # first pose whose 5x5 is clear of x 3.0
+    assert footprint_cost(x, y, th) < 254 and footprint_cost(x + 0.05, y, th) == 254
+    assert 0.0 < th < 1.0  # heading interpolated from the robot's toward the goal's
+    blocked = CarrotPlanner(cm, footprint_cost, {"min_dist_from_robot": 0.1})
+    near = Pose2D(2.95, 2.5)
+    assert blocked.make_plan(near, Pose2D(3.5, 2.5)).reason == "goal_occupied"
+    assert cp.make_plan(start, Pose2D(9.0, 2.5)).reason == "goal_outside_map"
+    assert cp.make_plan(Pose2D(-1, 0), Pose2D(2.0, 2.5)).reason == "start_outside_map"
+    bad = CarrotPlanner(cm, lambda x, y, t: 1 // 0)
+    assert bad.make_plan(start, Pose2D(2.0, 2.5)).reason.startswith("planner_error")
+
+
+def test_plan_result_failure() -> None:
+    r = PlanResult.failure("no_path")
+    assert (r.ok, r.path, r.reason, r.potential) == (False, None, "no_path", None)
