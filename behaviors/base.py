@@ -86,7 +86,7 @@ class NavNode(PortsMixin):
             return value
         try:
             return super().get_input(port_name)
-        except NoDataAvailable:
+        except (NoDataAvailable, NotImplementedError):  # py_trees refuses stored None values
             return None
 
     def write(self, port_name: str, value: Any) -> None:

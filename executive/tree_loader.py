@@ -23,10 +23,10 @@ from behaviors.base import namespaced, node_classes
 from executive.tree_build import Builder
 from executive.tree_spec import TreeDoc, TreeError
 from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
-from executive.tree_yaml import read_yaml
+from executive.tree_yaml import read_yaml, write_yaml
 from navcore.types import Twist
 
-__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "to_xml",
+__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "to_xml", "to_yaml",
            "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
 
 TREES_DIR = Path(__file__).resolve().parent.parent / "trees"
@@ -144,6 +144,16 @@ def to_xml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
         doc = tree
         main = main_tree or doc.main_tree or next(iter(doc.trees))
     return write_xml(doc, main, node_classes())
+
+
+def to_yaml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
+    """navbt YAML of a loaded tree (e.g. one read from Nav2 XML); comments are not kept."""
+    if isinstance(tree, LoadedTree):
+        doc, main = tree.doc, main_tree or tree.main_tree
+    else:
+        doc = tree
+        main = main_tree or doc.main_tree or next(iter(doc.trees))
+    return write_yaml(doc, main, node_classes())
 
 
 def shipped_tree(name: str) -> Path:

@@ -89,3 +89,4 @@ class TreeDoc:
     trees: dict[str, NodeSpec]
     tree_where: dict[str, Where]
     source: str
+    from_text: bool = False  # XML: literal port values are strings still to be typed

@@ -80,6 +80,8 @@ def _node(el: _Elem, file: str) -> NodeSpec:
         which = "local" if "local" in service else "global" if "global" in service else None
         if which:
             spec.ports["costmap"] = PortValue(which, spec.where)
+    for k in NAV2_IGNORED - {"ID"}:  # ROS plumbing: dropped, so exports stay clean
+        spec.ports.pop(k, None)
     spec.children = [_node(c, file) for c in el.children]
     spec.has_children_key = bool(el.children)
     return spec
@@ -96,7 +98,7 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     if root.tag != "root":
         raise TreeError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")
     doc = TreeDoc(main_tree=root.attrs.get("main_tree_to_execute"), trees={}, tree_where={},
-                  source=file)
+                  source=file, from_text=True)
     for el in root.children:
         where = Where(file, el.line)
         if el.tag == "BehaviorTree":

@@ -151,3 +151,54 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
             doc.trees[tid] = spec
             doc.tree_where[tid] = sub.tree_where[tid]
     return doc
+
+
+# ---------------------------------------------------------------------------- writing
+
+def _plain(value: Any) -> Any:
+    """A port value as plain YAML data (poses become {x, y, theta})."""
+    from navcore.types import Pose2D
+    if isinstance(value, Pose2D):
+        return {"x": value.x, "y": value.y, "theta": value.theta}
+    if isinstance(value, list):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool) -> dict[str, Any]:
+    from executive.tree_build import convert_literal
+    body: dict[str, Any] = {}
+    if spec.type == "SubTree":
+        body["id"] = spec.subtree_id
+    if spec.name:
+        body["name"] = spec.name
+    if spec.type == "SubTree" and spec.autoremap:
+        body["_autoremap"] = True
+    cls = classes.get(spec.type)
+    for port, pv in spec.ports.items():
+        value = pv.raw
+        if from_text and pv.ref is None and cls is not None and port in cls.input_ports():
+            try:
+                value = convert_literal(value, cls.input_ports()[port].data_type, True)
+            except ValueError:
+                pass  # left as text; loading it will report the problem
+        body[port] = _plain(value)
+    if spec.children:
+        kids = [_node_data(c, classes, from_text) for c in spec.children]
+        cls_is_decorator = cls is not None and len(spec.children) == 1 and \
+            getattr(cls, "CATEGORY", "") == "Decorator"
+        if cls_is_decorator:
+            body["child"] = kids[0]
+        else:
+            body["children"] = kids
+    return {spec.type: body}
+
+
+def write_yaml(doc: TreeDoc, main_tree: str, classes: dict[str, Any]) -> str:
+    """The YAML text of every tree in ``doc`` (comments are not kept)."""
+    data = {"main_tree": main_tree,
+            "trees": {tid: _node_data(spec, classes, doc.from_text)
+                      for tid, spec in doc.trees.items()}}
+    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=100)

@@ -319,3 +319,29 @@ def test_py_trees_own_xml_parser_builds_our_nodes(tmp_path):
 def test_namespace_must_be_absolute():
     with pytest.raises(TreeError, match="namespace must be an absolute name"):
         load_tree(shipped_tree("nav2"), namespace="mission")
+
+
+@pytest.mark.parametrize("name", SHIPPED_TREES)
+def test_yaml_export_round_trip(name, tmp_path):
+    from executive.tree_loader import to_yaml
+    loaded = load_tree(shipped_tree(name), namespace="/y1")
+    text = to_yaml(loaded)
+    p = tmp_path / "again.yaml"
+    p.write_text(text)
+    again = load_tree(p, namespace="/y2")
+    assert to_yaml(again) == text
+    assert to_xml(again) == to_xml(loaded)
+
+
+def test_xml_to_yaml_types_the_literals(tmp_path):
+    from executive.tree_loader import to_yaml
+    p = write(tmp_path, "nav2b.xml", "\n".join(l for l in NAV2_JAZZY.splitlines()
+                                               if "ControllerSelector" not in l))
+    text = to_yaml(load_xml(p))
+    assert "wait_duration: 5.0" in text and "number_of_retries: 6" in text
+    assert "costmap: local" in text
+    y = tmp_path / "nav2b.yaml"
+    y.write_text(text)
+    t = load_tree(y)
+    spin = next(n for n in t.nodes() if type(n).__name__ == "Spin")
+    assert spin.get_input("spin_dist") == 1.57
