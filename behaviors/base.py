@@ -17,6 +17,7 @@ py_trees storage is process-global, and this is what keeps two missions apart.
 
 from __future__ import annotations
 
+import copy
 from typing import Any, ClassVar, Iterable
 
 import py_trees
@@ -27,6 +28,7 @@ __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "PortInformation", "St
            "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable"]
 
 _MISSING = object()
+_BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds every key
 
 
 class ComponentError(RuntimeError):
@@ -71,27 +73,61 @@ class NavNode(PortsMixin):
         self.namespace = namespace
         self._literals = literals
         self.setup_ports(port_remappings=refs, subtree_namespace=namespace)
+        # Resolve every port to its storage key once: the hot path then reads and writes the
+        # (process-global) py_trees storage directly, keeping the tick overhead small.
+        self._keys = {p: self._get_blackboard_key(p)
+                      for p in (*self.input_ports(), *self.output_ports()) if p not in literals}
+
+    def _fast_get(self, port_name: str) -> Any:
+        """Stored value of a wired port, _MISSING when absent (None counts as absent)."""
+        value = _BB.storage.get(self._keys[port_name], _MISSING)
+        if value is None:
+            return _MISSING
+        if value is not _MISSING:
+            expected = self.input_ports()[port_name].data_type
+            if isinstance(expected, type) and not isinstance(value, expected):
+                raise TypeError(f"{type(self).__name__} '{self.name}': port '{port_name}' "
+                                f"({self._keys[port_name]}) holds {type(value).__name__}, "
+                                f"expected {expected.__name__}")
+        return value
 
     def get_input(self, port_name: str, default: Any = None) -> Any:
         """The port's literal if it has one, else the blackboard value, else its default."""
         value = self._literals.get(port_name, _MISSING)
         if value is not _MISSING:
             return value
-        return super().get_input(port_name, default)
+        keys = getattr(self, "_keys", None)
+        if keys is None or port_name not in keys:
+            return super().get_input(port_name, default)
+        value = self._fast_get(port_name)
+        if value is not _MISSING:
+            return value
+        if default is not None:
+            return default
+        info = self.input_ports()[port_name]
+        if info.has_default:
+            return copy.deepcopy(info.default_value)
+        raise NoDataAvailable(f"{self.name}: input port '{port_name}' ({keys[port_name]}) has "
+                              f"no data")
 
     def read(self, port_name: str) -> Any:
         """Like ``get_input`` but None when no data is available yet (no exception)."""
-        value = self._literals.get(port_name, _MISSING)
-        if value is not _MISSING:
-            return value
         try:
-            return super().get_input(port_name)
+            return self.get_input(port_name)
         except (NoDataAvailable, NotImplementedError):  # py_trees refuses stored None values
             return None
 
     def write(self, port_name: str, value: Any) -> None:
-        """Write an output port."""
-        self._set_output(port_name, value)
+        """Write an output port (type-checked)."""
+        keys = getattr(self, "_keys", None)
+        if keys is None or port_name not in keys:
+            self._set_output(port_name, value)
+            return
+        expected = self.output_ports()[port_name].data_type
+        if isinstance(expected, type) and not isinstance(value, expected):
+            raise TypeError(f"{type(self).__name__} '{self.name}': port '{port_name}' takes "
+                            f"{expected.__name__}, got {type(value).__name__}")
+        _BB.storage[keys[port_name]] = value
 
     def port_key(self, port_name: str) -> str:
         """The absolute blackboard key behind a port (for messages and tests)."""
