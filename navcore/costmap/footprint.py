@@ -2,7 +2,7 @@
 
 A footprint is an (N, 2) float64 polygon in the robot frame. ``footprint_cost`` is a numba kernel
 meant to be called from other kernels (the local planner scores hundreds of thousands of poses per
-cycle), so it allocates nothing and visits each covered cell about once.
+cycle), so it allocates only two tiny arrays per call and visits each covered cell about once.
 """
 
 from __future__ import annotations
@@ -144,7 +144,8 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
 
     The outline is the Bresenham line between the cells of consecutive vertices (ends included);
     the inside is every cell whose centre lies in the polygon (even-odd rule, so non-convex
-    footprints work too). Returns -1 if any vertex is off the map. No allocation.
+    footprints work too). Returns -1 if any vertex is off the map. Scan conversion is edge
+    driven: each edge only visits the rows it spans.
     """
     n = footprint.shape[0]
     size_y = costs.shape[0]
@@ -152,82 +153,94 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     c = math.cos(theta)
     s = math.sin(theta)
     inv = 1.0 / resolution
-    # pass 1: vertex cells on the map, row span, and the outline
-    best = 0
+    # vertices in the world, and their cells; any vertex off the map -> -1
+    vw = np.empty((n, 2), dtype=np.float64)
     min_my = size_y
     max_my = -1
-    px = x + c * footprint[n - 1, 0] - s * footprint[n - 1, 1]
-    py = y + s * footprint[n - 1, 0] + c * footprint[n - 1, 1]
-    pmx = int(math.floor((px - origin_x) * inv))
-    pmy = int(math.floor((py - origin_y) * inv))
-    if pmx < 0 or pmy < 0 or pmx >= size_x or pmy >= size_y:
-        return -1
     for i in range(n):
         wx = x + c * footprint[i, 0] - s * footprint[i, 1]
         wy = y + s * footprint[i, 0] + c * footprint[i, 1]
+        vw[i, 0] = wx
+        vw[i, 1] = wy
         mx = int(math.floor((wx - origin_x) * inv))
         my = int(math.floor((wy - origin_y) * inv))
         if mx < 0 or my < 0 or mx >= size_x or my >= size_y:
             return -1
-        best = _line_max(costs, pmx, pmy, mx, my, best)
         if my < min_my:
             min_my = my
         if my > max_my:
             max_my = my
+    # outline
+    best = 0
+    pmx = int(math.floor((vw[n - 1, 0] - origin_x) * inv))
+    pmy = int(math.floor((vw[n - 1, 1] - origin_y) * inv))
+    for i in range(n):
+        mx = int(math.floor((vw[i, 0] - origin_x) * inv))
+        my = int(math.floor((vw[i, 1] - origin_y) * inv))
+        best = _line_max(costs, pmx, pmy, mx, my, best)
         pmx = mx
         pmy = my
     if best == 255:
         return best
-    # pass 2: scanline fill of the cell centres inside the polygon
-    for row in range(min_my, max_my + 1):
-        yc = origin_y + (row + 0.5) * resolution
-        xl = 1e300
-        xr = -1e300
-        crossings = 0
-        ax = x + c * footprint[n - 1, 0] - s * footprint[n - 1, 1]
-        ay = y + s * footprint[n - 1, 0] + c * footprint[n - 1, 1]
-        for i in range(n):
-            bx = x + c * footprint[i, 0] - s * footprint[i, 1]
-            by = y + s * footprint[i, 0] + c * footprint[i, 1]
-            if (ay <= yc < by) or (by <= yc < ay):
-                xc = ax + (yc - ay) * (bx - ax) / (by - ay)
-                crossings += 1
-                if xc < xl:
-                    xl = xc
-                if xc > xr:
-                    xr = xc
-            ax = bx
-            ay = by
-        if crossings < 2:
+    # inside: per row, the leftmost and rightmost edge crossing at the cell-centre height
+    rows = max_my - min_my + 1
+    span = np.empty((rows, 2), dtype=np.float64)
+    count = np.zeros(rows, dtype=np.int64)
+    for r in range(rows):
+        span[r, 0] = 1e300
+        span[r, 1] = -1e300
+    for i in range(n):
+        ax = vw[i - 1, 0]
+        ay = vw[i - 1, 1]
+        bx = vw[i, 0]
+        by = vw[i, 1]
+        if ay == by:
             continue
+        ylo = min(ay, by)
+        yhi = max(ay, by)
+        slope = (bx - ax) / (by - ay)
+        r0 = max(int(math.floor((ylo - origin_y) * inv - 0.5)), min_my)
+        r1 = min(int(math.floor((yhi - origin_y) * inv - 0.5)) + 1, max_my)
+        for row in range(r0, r1 + 1):
+            yc = origin_y + (row + 0.5) * resolution
+            if yc < ylo or yc >= yhi:
+                continue
+            xc = ax + (yc - ay) * slope
+            k = row - min_my
+            count[k] += 1
+            if xc < span[k, 0]:
+                span[k, 0] = xc
+            if xc > span[k, 1]:
+                span[k, 1] = xc
+    for k in range(rows):
+        if count[k] < 2:
+            continue
+        row = min_my + k
+        yc = origin_y + (row + 0.5) * resolution
         # centres cx = origin_x + (mx + 0.5) * res within [xl, xr]
-        m0 = int(math.ceil((xl - origin_x) * inv - 0.5))
-        m1 = int(math.floor((xr - origin_x) * inv - 0.5))
-        if m0 < 0:
-            m0 = 0
-        if m1 > size_x - 1:
-            m1 = size_x - 1
-        if crossings == 2:  # convex rows: one span
+        m0 = max(int(math.ceil((span[k, 0] - origin_x) * inv - 0.5)), 0)
+        m1 = min(int(math.floor((span[k, 1] - origin_x) * inv - 0.5)), size_x - 1)
+        crow = costs[row]
+        if count[k] == 2:  # one span (every row of a convex footprint)
+            rb = np.uint8(0)
             for mx in range(m0, m1 + 1):
-                v = costs[row, mx]
-                if v > best:
-                    best = v
+                rb = max(rb, crow[mx])  # branch-free, vectorisable
+            if rb > best:
+                best = rb
         else:  # non-convex row: even-odd test per cell centre
             for mx in range(m0, m1 + 1):
                 xc0 = origin_x + (mx + 0.5) * resolution
                 inside = False
-                ax = x + c * footprint[n - 1, 0] - s * footprint[n - 1, 1]
-                ay = y + s * footprint[n - 1, 0] + c * footprint[n - 1, 1]
                 for i in range(n):
-                    bx = x + c * footprint[i, 0] - s * footprint[i, 1]
-                    by = y + s * footprint[i, 0] + c * footprint[i, 1]
+                    ax = vw[i - 1, 0]
+                    ay = vw[i - 1, 1]
+                    bx = vw[i, 0]
+                    by = vw[i, 1]
                     if (ay <= yc < by) or (by <= yc < ay):
                         if ax + (yc - ay) * (bx - ax) / (by - ay) > xc0:
                             inside = not inside
-                    ax = bx
-                    ay = by
                 if inside:
-                    v = costs[row, mx]
+                    v = crow[mx]
                     if v > best:
                         best = v
         if best == 255:
