@@ -63,8 +63,12 @@ def _planner(config: RobotConfig, global_cm: Any) -> Any:
 def _controller(config: RobotConfig, local_cm: Any) -> Any:
     from navcore.controllers import make_controller
     ns = config.local_planner_namespace()
+    params = config.ns(ns)
+    # as in ROS, the local planner's sim_period follows move_base's controller_frequency
+    params.setdefault("controller_frequency", config.move_base.controller_frequency)
+    # the costmap's padded footprint, as move_base hands the local planner the costmap's one
     return make_controller(config.move_base.base_local_planner, local_cm.costmap,
-                           np.asarray(config.footprint(), np.float64), config.ns(ns))
+                           np.asarray(local_cm.footprint, np.float64), params)
 
 
 def _simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: World,
