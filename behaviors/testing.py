@@ -255,5 +255,40 @@ def run_tree(tree: Any, world: World, max_ticks: int = 5000,
 
 
 __all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World",
+           "NoopPlanner", "NoopController",
            "run_tree", "straight_path", "PlanResult", "ControlResult", "DWA_LIKE",
            "normalize_angle"]
+
+
+class NoopPlanner:
+    """Returns the same straight path every call: planning costs nothing (tree benchmarks)."""
+
+    def __init__(self, length: float = 5.0) -> None:
+        self._result = PlanResult(True, straight_path(Pose2D(), Pose2D(length, 0.0, 0.0)))
+        self.calls = 0
+
+    def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
+        self.calls += 1
+        return self._result
+
+
+class NoopController:
+    """Always "following" with one fixed command (tree benchmarks)."""
+
+    def __init__(self) -> None:
+        self._result = ControlResult(Twist(0.2, 0.0, 0.0), "following")
+        self.calls = 0
+
+    def set_plan(self, path: Path) -> None:
+        pass
+
+    def reset(self) -> None:
+        pass
+
+    def is_goal_reached(self) -> bool:
+        return False
+
+    def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None
+                         ) -> ControlResult:
+        self.calls += 1
+        return self._result

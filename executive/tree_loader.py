@@ -12,6 +12,7 @@ Errors are ``TreeError`` with ``file:line: NodeType: what is wrong (did you mean
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -141,9 +142,9 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
 
 
 def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool) -> LoadedTree:
-    if not namespace.startswith("/") or namespace.rstrip("/") == "":
-        raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1', "
-                        f"got {namespace!r}")
+    if not re.fullmatch(r"(/[A-Za-z0-9_]+)+/?", namespace):
+        raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
+                        f"(letters, digits, '_'; a '.' would nest keys), got {namespace!r}")
     if main_tree is not None:
         doc.main_tree = main_tree
     builder = Builder(doc, namespace.rstrip("/"), from_text=xml,

@@ -1,0 +1,65 @@
+"""Behaviour-tree figures: loading the shipped trees, and the cost of one tick of each with
+no-op components (the tree alone, without the executive loop).
+
+    python bench/bench_trees.py [--json]
+
+``load_<tree>_ms``: parse + validate + build the YAML file. ``tick_<tree>_us``: mean
+LoadedTree.tick() while navigating (FollowPath RUNNING, replanning at its rate) with
+NoopPlanner / NoopController / a robot that does not move.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def load_ms(path: str, repeats: int = 20) -> float:
+    from executive.tree_loader import load_tree
+    t0 = time.perf_counter()
+    for i in range(repeats):
+        load_tree(path, namespace=f"/load_{i}")
+    return 1e3 * (time.perf_counter() - t0) / repeats
+
+
+def tick_us(path: str, ticks: int = 3000) -> float:
+    from behaviors.testing import NoopController, NoopPlanner, World
+    from executive.tree_loader import load_tree
+    from navcore.types import Pose2D
+    world = World(planner=NoopPlanner(), controller=NoopController())
+    tree = load_tree(path, namespace=f"/tick_{os.path.basename(path).split('.')[0]}")
+    tree.setup(**world.components())
+    tree.set("goal", Pose2D(5.0, 0.0, 0.0))
+    for _ in range(50):
+        tree.tick()
+        world.clock.advance(world.control_period)
+    t0 = time.perf_counter()
+    for _ in range(ticks):
+        tree.tick()
+        world.clock.advance(world.control_period)
+    return 1e6 * (time.perf_counter() - t0) / ticks
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", action="store_true", help="last line: one JSON object")
+    args = parser.parse_args()
+    from executive.tree_loader import SHIPPED_TREES, shipped_tree
+    figures = {}
+    for name in SHIPPED_TREES:
+        path = str(shipped_tree(name))
+        figures[f"load_{name}_ms"] = round(load_ms(path), 2)
+        figures[f"tick_{name}_us"] = round(tick_us(path), 1)
+        print(f"{name:24s} load {figures[f'load_{name}_ms']:7.2f} ms   "
+              f"tick {figures[f'tick_{name}_us']:7.1f} us")
+    if args.json:
+        print(json.dumps(figures))
+
+
+if __name__ == "__main__":
+    main()
