@@ -91,7 +91,7 @@ def test_grid_planners_give_reasons_instead_of_raising(kind: str) -> None:
 def test_planner_never_raises_on_internal_error() -> None:
     cm = walled(40, 30)
     p = NavFn(cm)
-    cm.costs = np.zeros((30, 40), np.float64)  # a broken costmap: wrong dtype reaches the kernel
+    cm.costs = None  # a broken costmap
     r = p.make_plan(centre(cm, 3, 3), centre(cm, 36, 3))
     assert not r.ok and r.reason.startswith("planner_error")
 

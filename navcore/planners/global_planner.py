@@ -132,6 +132,8 @@ class GlobalPlanner:
         reset_buffers(ws.pot, ws.pending, nx, ny)
         lethal, neutral = p.lethal_cost, p.neutral_cost
         lut = global_planner_cost_table(lethal, neutral, p.cost_factor, p.allow_unknown)
+        if cm.costs.dtype != np.uint8:
+            raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         sx, sy = s
         k = int(sy) * nx + int(sx)

@@ -83,6 +83,8 @@ class NavFn:
         ws.ensure(nx, ny)
         reset_buffers(ws.pot, ws.pending, nx, ny)
         lut = navfn_cost_table(p.allow_unknown)
+        if cm.costs.dtype != np.uint8:
+            raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         k = sc[1] * nx + sc[0]
         target = gc[1] * nx + gc[0] if gc is not None else 0  # off-map goal: ROS aims at cell 0
