@@ -88,3 +88,30 @@ def format_catalogue(verbose: bool = False) -> str:
                 lines.append(f"      {p.direction[:2]} {p.name}: {p.type_name}{default}{key}  "
                              f"{p.description}")
     return "\n".join(lines)
+
+
+def _md(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def markdown_catalogue() -> str:
+    """The node reference of docs/trees.md (a test keeps the checked-in copy in step)."""
+    out = []
+    current = None
+    for d in catalogue().values():
+        if d.category != current:
+            current = d.category
+            out += [f"### {current}s", ""]
+        out.append(f"**{d.name}**: {_md(d.summary)}")
+        out.append("")
+        if d.ports:
+            out.append("| port | dir | type | default | meaning |")
+            out.append("|---|---|---|---|---|")
+            for p in d.ports:
+                default = (f"`{{{p.default_key}}}`" if p.default_key else
+                           "required" if p.required and p.default is None and p.direction == "input"
+                           else "" if p.default is None else f"`{p.default!r}`")
+                out.append(f"| `{p.name}` | {p.direction[:-3] if p.direction == 'output' else 'in'} "
+                           f"| {p.type_name} | {default} | {_md(p.description)} |")
+            out.append("")
+    return "\n".join(out).rstrip() + "\n"

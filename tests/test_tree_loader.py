@@ -345,3 +345,15 @@ def test_xml_to_yaml_types_the_literals(tmp_path):
     t = load_tree(y)
     spin = next(n for n in t.nodes() if type(n).__name__ == "Spin")
     assert spin.get_input("spin_dist") == 1.57
+
+
+def test_docs_node_reference_is_in_step():
+    """docs/trees.md carries the generated node table; regenerate it when ports change."""
+    from pathlib import Path
+
+    from behaviors.registry import markdown_catalogue
+    text = (Path(__file__).resolve().parent.parent / "docs" / "trees.md").read_text()
+    start, end = "<!-- nodes:start -->\n", "<!-- nodes:end -->"
+    table = text[text.index(start) + len(start):text.index(end)]
+    assert table == markdown_catalogue(), "run: python -c 'from behaviors.registry import " \
+        "markdown_catalogue' and paste it between the nodes markers of docs/trees.md"
