@@ -52,13 +52,13 @@ def test_filter_refuses_slow_fast_and_still_samples():
 def test_simulate_constant_arc_and_ramped_velocity():
     samples = np.array([[0.5, 0.0, 0.5]])
     steps = np.array([10])
-    pts, cmd = simulate(samples, steps, 1.0, 2.0, 0.0, np.zeros(3), np.array([2.5, 2.5, 3.2]),
+    pts, cmd, _ = simulate(samples, steps, 1.0, 2.0, 0.0, np.zeros(3), np.array([2.5, 2.5, 3.2]),
                         1.0, CONSTANT)
     assert pts.shape == (1, 10, 3)
     assert pts[0, 0].tolist() == [1.0, 2.0, 0.0]            # the start pose is the first point
     assert pts[0, -1, 2] == pytest.approx(0.5 * 0.9)         # the final integration is not kept
     assert cmd[0].tolist() == [0.5, 0.0, 0.5]
-    pts_r, cmd_r = simulate(samples, steps, 0.0, 0.0, 0.0, np.zeros(3),
+    pts_r, cmd_r, _ = simulate(samples, steps, 0.0, 0.0, 0.0, np.zeros(3),
                             np.array([2.5, 2.5, 3.2]), 1.0, RAMPED)
     assert cmd_r[0, 0] == pytest.approx(0.25)                # first ramped step: a * dt
     assert np.nanmax(pts_r[0, :, 0]) < np.nanmax(pts[0, :, 0] - 1.0) + 1e-9  # slower start

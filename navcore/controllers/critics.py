@@ -94,94 +94,172 @@ def footprint_scale(vx: float, vy: float, scaling_speed: float, max_vel_trans: f
 
 
 @njit(cache=True, nogil=True)
+def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: float,
+                 origin_y: float, resolution: float, path_grid: np.ndarray,
+                 goal_grid: np.ndarray, front_grid: np.ndarray, weights: np.ndarray,
+                 costs: np.ndarray) -> tuple[float, int]:
+    """The four map-grid critics of trajectory ``k`` in one pass over its points: the weighted
+    sum, or the first critic's negative code in chain order (goal_front, alignment, path, goal);
+    and the worst centre-cell cost seen, a lower bound of the obstacle critic for free.
+
+    Same results as ``grid_critic`` called once per critic (aggregation Last; goal_front and
+    alignment at the nose points without stop_on_failure; path and goal with it).
+    """
+    front_s = weights[1]
+    align_s = weights[2]
+    path_s = weights[3]
+    goal_s = weights[4]
+    size_y, size_x = path_grid.shape
+    obstacle = size_x * size_y
+    inv = 1.0 / resolution
+    use_nose = front_s != 0.0 or align_s != 0.0
+    need_path = path_s != 0.0
+    need_goal = goal_s != 0.0
+    # a code per critic; the chain reports the first critic (in order) that failed
+    c_nose = 0.0
+    c_path = 0.0
+    c_goal = 0.0
+    v_front = 0.0
+    v_align = 0.0
+    v_path = 0.0
+    v_goal = 0.0
+    cmax = 0
+    for i in range(n):
+        if use_nose and c_nose == 0.0:
+            px = nose[k, i, 0]
+            py = nose[k, i, 1]
+            mx = int((px - origin_x) * inv)
+            my = int((py - origin_y) * inv)
+            if px < origin_x or py < origin_y or mx >= size_x or my >= size_y:
+                c_nose = -4.0  # both nose critics go off the map together
+            else:
+                v_front = front_grid[my, mx]
+                v_align = path_grid[my, mx]
+        if (need_path and c_path == 0.0) or (need_goal and c_goal == 0.0):
+            px = pts[k, i, 0]
+            py = pts[k, i, 1]
+            mx = int((px - origin_x) * inv)
+            my = int((py - origin_y) * inv)
+            if px < origin_x or py < origin_y or mx >= size_x or my >= size_y:
+                if c_path == 0.0:
+                    c_path = -4.0
+                if c_goal == 0.0:
+                    c_goal = -4.0
+            else:
+                cc = costs[my, mx]
+                if cc > cmax:
+                    cmax = cc
+                if c_path == 0.0:
+                    dp = path_grid[my, mx]
+                    if dp == obstacle:
+                        c_path = -3.0
+                    elif dp == obstacle + 1:
+                        c_path = -2.0
+                    else:
+                        v_path = dp
+                if c_goal == 0.0:
+                    dg = goal_grid[my, mx]
+                    if dg == obstacle:
+                        c_goal = -3.0
+                    elif dg == obstacle + 1:
+                        c_goal = -2.0
+                    else:
+                        v_goal = dg
+    c_front = c_nose
+    c_align = c_nose
+    if front_s != 0.0 and c_front < 0:
+        return c_front, cmax
+    if align_s != 0.0 and c_align < 0:
+        return c_align, cmax
+    if path_s != 0.0 and c_path < 0:
+        return c_path, cmax
+    if goal_s != 0.0 and c_goal < 0:
+        return c_goal, cmax
+    return front_s * v_front + align_s * v_align + path_s * v_path + goal_s * v_goal, cmax
+
+
+@njit(cache=True, nogil=True)
 def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: float,
                     origin_y: float, resolution: float, footprint: np.ndarray, sum_scores: bool,
                     base: float, scale: float, budget: float) -> float:
     """Worst (or summed) footprint cost over the points; -6 / -7 on lethal or off-map.
 
-    Stops early, returning the partial cost, once ``base + scale * cost`` exceeds ``budget``.
-    The centre cell counts too (ROS takes the max of the footprint and the centre cell).
+    The centre cell counts too (ROS takes the max of the footprint and the centre cell). Stops
+    early, returning the partial cost, once ``base + scale * cost`` exceeds ``budget``. Visits
+    every 4th point from the far end first, then the rest: the result is the same (max and sum
+    ignore order) but a lethal cell, usually met far along, and a blown budget show up sooner.
     """
     size_y, size_x = costs.shape
     cost = 0.0
-    for i in range(n):
-        px = pts[k, i, 0]
-        py = pts[k, i, 1]
-        f = footprint_cost(costs, origin_x, origin_y, resolution, footprint, px, py, pts[k, i, 2])
-        if f < 0:
-            return -7.0
-        if f >= LETHAL_OBSTACLE:
-            return -6.0
-        mx = int((px - origin_x) / resolution)
-        my = int((py - origin_y) / resolution)
-        if px < origin_x or py < origin_y or mx >= size_x or my >= size_y:
-            return -7.0
-        c = costs[my, mx]
-        if c > f:
-            f = c
-        if sum_scores:
-            cost += f
-        elif f > cost:
-            cost = f
-        if base + scale * cost > budget:
-            return cost
+    for phase in range(2):
+        for i in range(n - 1, -1, -1):
+            if ((n - 1 - i) % 4 == 0) != (phase == 0):
+                continue
+            px = pts[k, i, 0]
+            py = pts[k, i, 1]
+            f = footprint_cost(costs, origin_x, origin_y, resolution, footprint, px, py,
+                               pts[k, i, 2])
+            if f < 0:
+                return -7.0
+            if f >= LETHAL_OBSTACLE:
+                return -6.0
+            if px < origin_x or py < origin_y:
+                return -7.0
+            mx = int((px - origin_x) / resolution)
+            my = int((py - origin_y) / resolution)
+            if mx >= size_x or my >= size_y:
+                return -7.0
+            c = costs[my, mx]
+            if c > f:
+                f = c
+            if sum_scores:
+                cost += f
+            elif f > cost:
+                cost = f
+            if base + scale * cost > budget:
+                return cost
     return cost
 
 
 @njit(cache=True, nogil=True)
-def score_dwa(pts: np.ndarray, steps: np.ndarray, vels: np.ndarray, costs: np.ndarray,
-              origin_x: float, origin_y: float, resolution: float, footprint: np.ndarray,
-              path_grid: np.ndarray, goal_grid: np.ndarray, front_grid: np.ndarray,
-              weights: np.ndarray, flags: np.ndarray, exhaustive: bool
+def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.ndarray,
+              costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+              footprint: np.ndarray, path_grid: np.ndarray, goal_grid: np.ndarray,
+              front_grid: np.ndarray, weights: np.ndarray, flags: np.ndarray, exhaustive: bool
               ) -> tuple[np.ndarray, np.ndarray, int]:
     """Score every trajectory; return (scores, state per trajectory, best index or -1).
 
+    ``nose``: the points ``forward_point_distance`` ahead (from ``simulate``).
     ``weights``: occdist, goal_front, alignment, path, goal, twirling scales, forward shift,
     scaling_speed, max_vel_trans, max_scaling_factor, sum_scores (0/1).
     ``state``: SCORED, PRUNED (score is a lower bound) or REJECTED (score is the code).
     With ``exhaustive`` every trajectory is scored in full (for drawing and for tests).
     """
     occ_s = weights[0]
-    front_s = weights[1]
-    align_s = weights[2]
-    path_s = weights[3]
-    goal_s = weights[4]
     twirl_s = weights[5]
-    xshift = weights[6]
     sum_scores = weights[10] != 0.0
     k_n = pts.shape[0]
     scores = np.zeros(k_n)
     state = np.zeros(k_n, dtype=np.int8)
     bound = np.full(k_n, np.inf)
+    base = np.zeros(k_n)  # the cost of everything but the footprint
     # pass 1: everything but the footprint
     for k in range(k_n):
-        n = steps[k]
-        vx, vy, vth = vels[k, 0], vels[k, 1], vels[k, 2]
-        c = oscillation_critic(vx, vy, vth, flags)
-        total = 0.0
-        if c >= 0 and front_s != 0.0:
-            g = grid_critic(pts, k, n, front_grid, origin_x, origin_y, resolution, xshift, False)
-            c = g if g < 0 else c
-            total += front_s * g
-        if c >= 0 and align_s != 0.0:
-            g = grid_critic(pts, k, n, path_grid, origin_x, origin_y, resolution, xshift, False)
-            c = g if g < 0 else c
-            total += align_s * g
-        if c >= 0 and path_s != 0.0:
-            g = grid_critic(pts, k, n, path_grid, origin_x, origin_y, resolution, 0.0, True)
-            c = g if g < 0 else c
-            total += path_s * g
-        if c >= 0 and goal_s != 0.0:
-            g = grid_critic(pts, k, n, goal_grid, origin_x, origin_y, resolution, 0.0, True)
-            c = g if g < 0 else c
-            total += goal_s * g
+        vth = vels[k, 2]
+        c = oscillation_critic(vels[k, 0], vels[k, 1], vth, flags)
+        cmax = 0
+        if c >= 0:
+            c, cmax = grid_critics(pts, nose, k, steps[k], origin_x, origin_y, resolution,
+                                   path_grid, goal_grid, front_grid, weights, costs)
+        if c >= 0 and cmax >= LETHAL_OBSTACLE:
+            c = -6.0  # the centre cell lies inside the footprint
         if c < 0:
             scores[k] = c
             state[k] = REJECTED
             continue
-        total += twirl_s * abs(vth)
-        bound[k] = total
-        scores[k] = total
+        base[k] = c + twirl_s * abs(vth)
+        bound[k] = base[k] + occ_s * cmax
+        scores[k] = bound[k]
     # pass 2: footprints, cheapest lower bound first
     order = np.argsort(bound, kind="mergesort")
     best = -1
@@ -200,12 +278,12 @@ def score_dwa(pts: np.ndarray, steps: np.ndarray, vels: np.ndarray, costs: np.nd
             fp = footprint * s
         budget = np.inf if (exhaustive or best < 0) else best_cost + slack
         o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
-                            sum_scores, bound[k], occ_s, budget)
+                            sum_scores, base[k], occ_s, budget)
         if o < 0:
             scores[k] = o
             state[k] = REJECTED
             continue
-        total = bound[k] + occ_s * o
+        total = base[k] + occ_s * o
         scores[k] = total
         if budget < np.inf and total > budget:
             state[k] = PRUNED

@@ -108,6 +108,7 @@ class DWAPlanner(LocalPlannerBase):
         self.oscillation = OscillationFlags()
         self._xy_latch = False
         self._rotating_to_goal = False
+        self.exhaustive = False  # score every trajectory in full (for drawing); slower
 
     def reset(self) -> None:
         """Forget the latched xy tolerance, the rotate-to-goal phase and the oscillation flags."""
@@ -194,9 +195,10 @@ class DWAPlanner(LocalPlannerBase):
                                           p.angular_sim_granularity, p.min_vel_trans,
                                           abs(p.min_vel_theta), p.max_vel_trans)
         vel = np.array([velocity.vx, velocity.vy, velocity.wz])
-        pts, cmds = simulate(samples, steps, pose.x, pose.y, pose.theta, vel, self._acc(),
-                             p.sim_time, CONSTANT if p.use_dwa else RAMPED)
-        scores, state, best = score_dwa(pts, steps, cmds, ctx["costs"], ctx["ox"], ctx["oy"],
+        pts, cmds, nose = simulate(samples, steps, pose.x, pose.y, pose.theta, vel, self._acc(),
+                                   p.sim_time, CONSTANT if p.use_dwa else RAMPED,
+                                   p.forward_point_distance)
+        scores, state, best = score_dwa(pts, nose, steps, cmds, ctx["costs"], ctx["ox"], ctx["oy"],
                                         ctx["res"], self.footprint, ctx["path"], ctx["goal"],
                                         ctx["front"], ctx["weights"], self.oscillation.only,
                                         exhaustive)
@@ -226,7 +228,8 @@ class DWAPlanner(LocalPlannerBase):
                 ctx: dict[str, Any]) -> ControlResult:
         p = self.params
         samples = self.sample_window(velocity, pose, ctx["local_goal"])
-        pts, steps, cmds, scores, state, best = self._score(pose, velocity, samples, ctx, False)
+        pts, steps, cmds, scores, state, best = self._score(pose, velocity, samples, ctx,
+                                                             self.exhaustive)
         if best < 0:
             return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY, None, pts, scores, cmds,
                                  reason=f"{self.NAME}: every trajectory was discarded ("

@@ -81,18 +81,22 @@ current velocity and commands the sample itself."""
 
 @njit(cache=True, nogil=True)
 def simulate(samples: np.ndarray, steps: np.ndarray, x: float, y: float, theta: float,
-             vel: np.ndarray, acc: np.ndarray, sim_time: float, mode: int
-             ) -> tuple[np.ndarray, np.ndarray]:
-    """Roll every sample out; return (points (K, max_steps, 3) NaN-padded, commands (K, 3)).
+             vel: np.ndarray, acc: np.ndarray, sim_time: float, mode: int, nose: float = 0.0
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Roll every sample out; return (points (K, max_steps, 3) NaN-padded, commands (K, 3),
+    nose points (K, max_steps, 2)).
 
-    Row k holds ``steps[k]`` poses. ``mode`` is CONSTANT, RAMPED or RAMPED_FROM_CURRENT.
+    Row k holds ``steps[k]`` poses. ``mode`` is CONSTANT, RAMPED or RAMPED_FROM_CURRENT. The nose
+    points lie ``nose`` metres ahead of each pose (DWA scores some critics there); computing them
+    here reuses the heading's sine and cosine.
     """
     k_n = samples.shape[0]
     n_max = 1
     for k in range(k_n):
         if steps[k] > n_max:
             n_max = steps[k]
-    pts = np.full((k_n, n_max, 3), np.nan)
+    pts = np.empty((k_n, n_max, 3))
+    fwd = np.empty((k_n, n_max, 2))
     cmd = np.empty((k_n, 3))
     for k in range(k_n):
         n = steps[k]
@@ -110,6 +114,11 @@ def simulate(samples: np.ndarray, steps: np.ndarray, x: float, y: float, theta: 
             vx, vy, vw = tx, ty, tw
             cmd[k, 0], cmd[k, 1], cmd[k, 2] = tx, ty, tw
         px, py, pth = x, y, theta
+        c = math.cos(pth)
+        s = math.sin(pth)
+        # constant yaw rate: rotate (c, s) by a fixed step instead of calling cos/sin per point
+        cw = math.cos(vw * dt)
+        sw = math.sin(vw * dt)
         for i in range(n):
             pts[k, i, 0] = px
             pts[k, i, 1] = py
@@ -118,9 +127,20 @@ def simulate(samples: np.ndarray, steps: np.ndarray, x: float, y: float, theta: 
                 vx = _ramp(tx, vx, acc[0], dt)
                 vy = _ramp(ty, vy, acc[1], dt)
                 vw = _ramp(tw, vw, acc[2], dt)
-            c = math.cos(pth)
-            s = math.sin(pth)
+                if i > 0:
+                    c = math.cos(pth)
+                    s = math.sin(pth)
+            elif i > 0:
+                c, s = c * cw - s * sw, s * cw + c * sw
+            fwd[k, i, 0] = px + nose * c
+            fwd[k, i, 1] = py + nose * s
             px += (vx * c - vy * s) * dt
             py += (vx * s + vy * c) * dt
             pth += vw * dt
-    return pts, cmd
+        for i in range(n, n_max):  # NaN past the end, so a drawing stops there
+            pts[k, i, 0] = np.nan
+            pts[k, i, 1] = np.nan
+            pts[k, i, 2] = np.nan
+            fwd[k, i, 0] = np.nan
+            fwd[k, i, 1] = np.nan
+    return pts, cmd, fwd

@@ -1,0 +1,89 @@
+"""One control cycle of the local planners on a 6 m x 6 m local costmap at 0.05 m.
+
+The scene: a rectangular 0.5 x 0.44 m footprint at the centre, driving at 0.4 m/s along a gently
+curving plan, boxes to both sides inflated as costmap_2d would (inscribed 0.22 m, radius 0.55 m).
+Figures: median (and min) milliseconds of ``compute_velocity`` for DWA with the ROS defaults,
+DWA with the tuning guide's heavy setting (vx 20 x vth 40 samples, sim_time 4.0,
+sim_granularity 0.025, differential drive), the same heavy setting scored exhaustively (no branch
+and bound, to show what it saves), and trajectory rollout with its defaults.
+
+    python bench/bench_controllers.py [--json] [--cycles N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from typing import Any
+
+import numpy as np
+
+from navcore.controllers import make_controller
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.costmap.inflation import cost_table, inflate
+from navcore.types import Path, Pose2D, Twist
+
+FOOTPRINT = np.array([[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]])
+HEAVY = {"vx_samples": 20, "vth_samples": 40, "sim_time": 4.0, "sim_granularity": 0.025,
+         "max_vel_y": 0.0, "min_vel_y": 0.0}
+
+
+def scene() -> tuple[Costmap2D, Path, Pose2D, Twist]:
+    cm = Costmap2D(120, 120, 0.05, -3.0, -3.0)
+    for x0, y0, x1, y1 in ((1.0, 0.9, 1.6, 1.4), (1.8, -1.5, 2.4, -0.9), (-1.0, 1.2, 0.2, 1.5),
+                           (2.6, 0.4, 2.9, 0.8)):
+        cm.costs[int((y0 + 3) / 0.05):int((y1 + 3) / 0.05),
+                 int((x0 + 3) / 0.05):int((x1 + 3) / 0.05)] = 254
+    inflate(cm.costs, cost_table(0.05, 0.22, 0.55, 10.0))
+    xs = np.linspace(-1.0, 8.0, 181)
+    ys = 0.3 * np.sin(xs / 2.0)
+    path = Path(np.column_stack([xs, ys, np.arctan2(np.gradient(ys), np.gradient(xs))]))
+    return cm, path, Pose2D(0.0, 0.0, 0.1), Twist(0.4, 0.0, 0.1)
+
+
+def time_cycles(kind: str, params: dict[str, Any], cycles: int,
+                exhaustive: bool = False) -> tuple[float, float, int, str]:
+    """(median ms, min ms, trajectories per cycle, status) of ``cycles`` identical cycles."""
+    cm, path, pose, vel = scene()
+    ctl = make_controller(kind, cm, FOOTPRINT, params)
+    if exhaustive:
+        ctl.exhaustive = True
+    r = ctl.compute_velocity(pose, vel, path)  # compile / warm up
+    times = []
+    for _ in range(cycles):
+        ctl.reset()
+        t0 = time.perf_counter()
+        r = ctl.compute_velocity(pose, vel, path)
+        times.append((time.perf_counter() - t0) * 1e3)
+    n = 0 if r.trajectories is None else len(r.trajectories)
+    return float(np.median(times)), float(np.min(times)), n, r.status
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="print the figures as JSON last")
+    ap.add_argument("--cycles", type=int, default=200)
+    args = ap.parse_args()
+    cases = (("dwa_default", "dwa_local_planner/DWAPlannerROS", {}, False),
+             ("dwa_heavy", "dwa_local_planner/DWAPlannerROS", HEAVY, False),
+             ("dwa_heavy_exhaustive", "dwa_local_planner/DWAPlannerROS", HEAVY, True),
+             ("trajectory_rollout_default", "base_local_planner/TrajectoryPlannerROS", {}, False))
+    figures: dict[str, float] = {}
+    for name, kind, params, exhaustive in cases:
+        try:
+            med, best, n, status = time_cycles(kind, params, args.cycles, exhaustive)
+        except ValueError as e:  # a planner kind not built yet
+            print(f"{name:28s} skipped: {e}")
+            continue
+        print(f"{name:28s} {med:7.3f} ms median  {best:7.3f} ms min  {n:5d} trajectories  "
+              f"({status})")
+        figures[f"{name}_ms"] = round(med, 3)
+        figures[f"{name}_min_ms"] = round(best, 3)
+        figures[f"{name}_trajectories"] = n
+    if args.json:
+        print(json.dumps(figures))
+
+
+if __name__ == "__main__":
+    main()
