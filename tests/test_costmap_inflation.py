@@ -134,3 +134,17 @@ def test_unknown_cells_keep_no_information_unless_lethal_nearby():
     assert costs[15, 21] == NO_INFORMATION                # 6 cells: 91 < 253, unknown kept
     assert costs[15, 15] == LETHAL_OBSTACLE
     assert FREE_SPACE not in costs
+
+
+def test_threaded_bands_give_the_same_costs():
+    rng = np.random.default_rng(9)
+    base = np.zeros((600, 300), np.uint8)
+    base[rng.random(base.shape) < 0.01] = LETHAL_OBSTACLE
+    base[rng.random(base.shape) < 0.05] = NO_INFORMATION
+    table = cost_table(RES, INSCRIBED, 1.0, 3.0)
+    one, three = base.copy(), base.copy()
+    inflate(one, table)
+    scratch = inflate(three, table, 0, 10, 300, 590, num_threads=3)
+    assert len(scratch) == 3
+    assert np.array_equal(three[10:590], one[10:590])
+    assert np.array_equal(three[:10], base[:10]) and np.array_equal(three[590:], base[590:])

@@ -12,6 +12,7 @@ proportional to the window, independent of the radius for the column pass.
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from numba import njit
@@ -92,7 +93,7 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     """Write inflated costs into ``costs`` over [x0, xn) x [y0, yn), from the lethal cells of the
     source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius).
 
-    ``g`` is an int32 scratch of at least the source window's shape.
+    ``g`` is a scratch of at least the source window's shape (uint8 when the cap fits).
     """
     cap = r + 1
     r2 = r * r
@@ -107,7 +108,7 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
         # cap: farther ones cannot give a distance within the radius
         k = -1
         for q in range(w):
-            gq = gr[q]
+            gq = np.int64(gr[q])
             if gq >= cap:
                 continue
             fq = gq * gq
@@ -156,16 +157,40 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
                 row[x] = cost
 
 
+_POOL: ThreadPoolExecutor | None = None
+_POOL_SIZE = 0
+MIN_ROWS_PER_THREAD = 128  # below this a thread costs more than it saves
+
+
+def _pool(n: int) -> ThreadPoolExecutor:
+    global _POOL, _POOL_SIZE
+    if _POOL is None or _POOL_SIZE < n:
+        _POOL = ThreadPoolExecutor(max_workers=n, thread_name_prefix="inflation")
+        _POOL_SIZE = n
+    return _POOL
+
+
+def _scratch_for(r: int, shape: tuple[int, int], scratch: np.ndarray | None) -> np.ndarray:
+    dtype = np.uint8 if r + 1 <= 255 else np.int32  # distances are capped at r + 1
+    if (scratch is None or scratch.dtype != dtype or scratch.shape[0] < shape[0]
+            or scratch.shape[1] < shape[1]):
+        scratch = np.empty(shape, dtype=dtype)
+    return scratch
+
+
 def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: int | None = None,
             yn: int | None = None, inflate_unknown: bool = False,
-            scratch: np.ndarray | None = None) -> np.ndarray | None:
+            scratch: list | None = None, num_threads: int = 1) -> list:
     """Inflate the lethal cells of ``costs`` (uint8 [my, mx]) in place over [x0, xn) x [y0, yn).
 
     Obstacles up to the table's radius outside the window count too. Merge as costmap_2d: an
     unknown cell takes the new cost only if it is inscribed or lethal (any nonzero cost with
-    ``inflate_unknown``), others keep the max. ``scratch`` (int32, returned) may be passed back in
-    to save an allocation on the next call.
+    ``inflate_unknown``), others keep the max. With ``num_threads`` > 1 large windows are cut
+    into bands of rows inflated concurrently (the kernel releases the GIL); the result is the
+    same, since inflation never creates or removes a lethal cell. Returns the scratch buffers,
+    which may be passed back in to save allocations.
     """
+    scratch = list(scratch) if scratch else []
     h, w = costs.shape
     xn = w if xn is None else min(int(xn), w)
     yn = h if yn is None else min(int(yn), h)
@@ -173,13 +198,24 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
     if xn <= x0 or yn <= y0:
         return scratch
     r = int(round(math.sqrt(len(table) - 1)))
-    sx0, sy0 = max(0, x0 - r), max(0, y0 - r)
-    sxn, syn = min(w, xn + r), min(h, yn + r)
-    shape = (syn - sy0, sxn - sx0)
-    if scratch is None or scratch.shape[0] < shape[0] or scratch.shape[1] < shape[1]:
-        scratch = np.empty(shape, dtype=np.int32)
-    _inflate_kernel(costs, x0, y0, xn, yn, sx0, sy0, sxn, syn, table, r, bool(inflate_unknown),
-                    scratch)
+    inflate_unknown = bool(inflate_unknown)
+    bands = max(1, min(int(num_threads), (yn - y0) // MIN_ROWS_PER_THREAD))
+    edges = [y0 + (yn - y0) * i // bands for i in range(bands + 1)]
+    jobs = []
+    for i in range(bands):
+        a, b = edges[i], edges[i + 1]
+        sx0, sy0 = max(0, x0 - r), max(0, a - r)
+        sxn, syn = min(w, xn + r), min(h, b + r)
+        if len(scratch) <= i:
+            scratch.append(None)
+        scratch[i] = _scratch_for(r, (syn - sy0, sxn - sx0), scratch[i])
+        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, table, r, inflate_unknown,
+                     scratch[i]))
+    if bands == 1:
+        _inflate_kernel(*jobs[0])
+    else:
+        for f in [_pool(bands).submit(_inflate_kernel, *job) for job in jobs]:
+            f.result()
     return scratch
 
 
@@ -252,6 +288,7 @@ INFLATION_PARAMS = (
     Param("cost_scaling_factor", 10.0, float, "exponential decay rate (1/m) of the inflated cost",
           min=0.0, max=100.0),
     Param("inflate_unknown", False, bool, "also write inflated costs into unknown cells"),
+    Param("num_threads", 1, int, "threads for large updates (Nav2's parameter)", min=1, max=64),
 )
 
 
@@ -276,7 +313,7 @@ class InflationLayer:
         self._resolution = float(resolution)
         self._table: np.ndarray | None = None
         self._table_key: tuple | None = None
-        self._scratch: np.ndarray | None = None
+        self._scratch: list = []
         self._last: tuple[float, float, float, float] | None = None
         self.need_reinflation = True
 
@@ -311,6 +348,7 @@ class InflationLayer:
         """The cost lookup table for the current parameters (rebuilt when they change)."""
         key = (self._resolution, self._inscribed, self.params.inflation_radius,
                self.params.cost_scaling_factor)
+        # (num_threads and inflate_unknown do not change the table)
         if self._table is None or key != self._table_key:
             self._table = cost_table(*key)
             self._table_key = key
@@ -342,4 +380,5 @@ class InflationLayer:
             return
         self._resolution = master.resolution
         self._scratch = inflate(master.costs, self.table(), x0, y0, xn, yn,
-                                self.params.inflate_unknown, self._scratch)
+                                self.params.inflate_unknown, self._scratch,
+                                self.params.num_threads)
