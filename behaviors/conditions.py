@@ -324,6 +324,20 @@ class _WouldRecoveryHelp(Condition):
         return _yes(helps)
 
 
+class AreErrorCodesPresent(Condition):
+    """SUCCESS when ``error_code`` is one of ``error_codes_to_check`` (Nav2)."""
+
+    INPUT_PORTS = {
+        "error_code": PortInformation(int, True, "an error code key"),
+        "error_codes_to_check": PortInformation(list, True, "codes to look for"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def update(self) -> Status:
+        code = self.read("error_code")
+        return _yes(code is not None and int(code) in self.get_input("error_codes_to_check"))
+
+
 class WouldAPlannerRecoveryHelp(_WouldRecoveryHelp):
     """SUCCESS when the last planning error code is one a recovery can fix (Nav2 defaults:
     UNKNOWN, NO_VALID_PATH, TIMEOUT)."""

@@ -297,3 +297,29 @@ class GoalUpdater(DecoratorNode):
             self.write("output_goal", goal)
         yield from self.decorated.tick()
         yield from self._finish(self.decorated.status)
+
+
+class GoalUpdatedController(DecoratorNode):
+    """Tick the child on the first tick of a run, while it is RUNNING, and whenever ``goal``
+    changed; otherwise return the child's last result (Nav2 ``GoalUpdatedController``).
+
+    Around ComputePathToPose this is move_base's ``planner_frequency: 0``: plan once, and again
+    for a new goal.
+    """
+
+    INPUT_PORTS = {"goal": PortInformation(Pose2D, True, "the goal watched for changes")}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"goal": "goal"}
+
+    def tick(self) -> Iterator[Behaviour]:
+        goal = self.read("goal")
+        if self.status == Status.INVALID:
+            self._last_status, self._goal = Status.INVALID, goal
+        changed = goal != self._goal
+        self._goal = goal
+        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or changed:
+            if changed and self.decorated.status == Status.RUNNING:
+                self.halt_child()  # restart the child for the new goal
+            yield from self.decorated.tick()
+            self._last_status = self.decorated.status
+        yield from self._finish(self._last_status)

@@ -162,6 +162,27 @@ class Wait(Recovery):
         return Status.RUNNING
 
 
+class ReinitializeGlobalLocalization(Recovery):
+    """Ask the localiser to spread its particles over all free space (amcl's
+    global_localization service). SUCCESS in one tick; FAILURE without a localiser."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    NEEDS_ROBOT = False
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self.localizer = kwargs.get("localizer")
+
+    def update(self) -> Status:
+        if self.localizer is None:
+            self.say("no localiser to reinitialise")
+            return Status.FAILURE
+        self.localizer.global_localization()
+        self.say("particles spread over the free space")
+        return Status.SUCCESS
+
+
 class Spin(Recovery):
     """Turn in place by ``spin_dist`` radians (sign = direction), then stop (rotate_recovery).
 

@@ -278,3 +278,20 @@ def test_navigate_to_pose_subtree():
     assert status == S
     assert rig.world.robot.pose().distance_to(Pose2D(1.5, -1.0, 0.0)) <= 0.1
     assert rig.world.planner.calls >= 2                            # replanned while driving
+
+
+def test_reinitialize_global_localization():
+    class Loc:
+        calls = 0
+
+        def global_localization(self):
+            Loc.calls += 1
+
+    w = World()
+    rig = Rig(w)
+    node = rig.node("ReinitializeGlobalLocalization")
+    node.tick_once()
+    assert node.status == F                           # no localiser in this world
+    node.localizer = Loc()
+    node.tick_once()
+    assert node.status == S and Loc.calls == 1

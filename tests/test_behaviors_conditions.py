@@ -172,3 +172,14 @@ def test_would_a_recovery_help_reads_error_codes():
     assert tick(planner) == F
     custom = env.node("WouldAPlannerRecoveryHelp", error_codes_to_check=[206])
     assert tick(custom) == S
+
+
+def test_are_error_codes_present():
+    env = Env()
+    node = env.node("AreErrorCodesPresent", error_code="{follow_path_error_code}",
+                    error_codes_to_check=[105, 106])
+    assert tick(node) == F
+    env.put("follow_path_error_code", 106)
+    assert tick(node) == S
+    env.put("follow_path_error_code", 0)
+    assert tick(node) == F

@@ -186,3 +186,18 @@ def test_set_parameters_restores_when_halted_and_rejects_bad_values():
     unknown.setup(parameters=params)
     unknown.tick_once()
     assert unknown.status == F and "no parameter namespace" in unknown.feedback_message
+
+
+def test_goal_updated_controller_replans_only_for_a_new_goal():
+    from py_trees.blackboard import Client
+    from py_trees.common import Access
+    child = Counter("plan", [R, S] + [S] * 10, S)
+    node = make("GoalUpdatedController", namespace="/guc", child=child)
+    node.setup(clock=SimClock(), robot=FakeRobot())
+    bb = Client(name="t", namespace="/guc")
+    bb.register_key("goal", access=Access.WRITE)
+    bb.goal = Pose2D(1.0, 0.0, 0.0)
+    assert run(node, 4) == [R, S, S, S]
+    assert child.ticked == 2                         # running, then done: not ticked again
+    bb.goal = Pose2D(2.0, 0.0, 0.0)
+    assert run(node, 2) == [S, S] and child.ticked == 3

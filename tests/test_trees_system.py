@@ -213,3 +213,23 @@ def test_near_goal_reconfigure_lowers_the_bias_only_near_the_goal():
     first_near = log.index(8.0)
     assert set(log[first_near:]) == {8.0}                   # stays lowered once near
     assert w.parameters["DWAPlannerROS"].path_distance_bias == 32.0   # restored at the end
+
+
+@pytest.mark.parametrize("name", SHIPPED_TREES)
+def test_goal_changes_while_driving(name):
+    """A new goal during FollowPath: every tree replans (move_base at once, the others at their
+    replanning rate) and reaches the new goal without any recovery."""
+    w = World()
+    tree, runs = start(name, w)
+    new_goal = Pose2D(0.5, -2.0, 0.0)
+
+    def on_tick(i, world):
+        if i == 40:
+            tree.set("goal", new_goal)
+
+    status, ticks = run_tree(tree, w, on_tick=on_tick)
+    assert status == S and w.robot.pose().distance_to(new_goal) <= 0.1
+    assert w.planner.goals[-1] == new_goal
+    assert clears(w.local_costmap) == clears(w.global_costmap) == 0
+    if name == "move_base":
+        assert w.planner.calls == 2                  # once per goal (planner_frequency 0)
