@@ -307,6 +307,21 @@ def parse_reply_block(block: bytes) -> ScipReply:
     return ScipReply(echo, st[:2].decode("ascii"), tuple(lines[2:]))
 
 
+@numba.njit(cache=True)
+def _values_to_ranges(raw: np.ndarray, dmin: int) -> np.ndarray:
+    """mm -> m; error codes (below dmin): 0 and 6 -> +inf, the rest NaN."""
+    out = np.empty(raw.shape[0], dtype=np.float32)
+    for i in range(raw.shape[0]):
+        v = raw[i]
+        if v >= dmin:
+            out[i] = v / 1000.0
+        elif v == 0 or v == 6:
+            out[i] = np.inf
+        else:
+            out[i] = np.nan
+    return out
+
+
 @dataclass(frozen=True, slots=True)
 class UrgGeometry:
     """Sensor parameters from ``PP`` (URG-04LX defaults): ranges in mm, steps, rpm."""
@@ -341,11 +356,7 @@ def to_laser_scan(scan: ScanData, geom: UrgGeometry, stamp: float,
     req = scan.request
     c = max(req.cluster, 1)
     inc = 2.0 * math.pi / geom.ares
-    raw = scan.values
-    r = raw.astype(np.float32) / 1000.0
-    err = raw < geom.dmin
-    r[err] = np.nan
-    r[err & ((raw == 0) | (raw == 6))] = np.inf
+    r = _values_to_ranges(scan.values, geom.dmin)
     n = len(r)
     a0 = geom.angle(req.start)
     return LaserScan(stamp=stamp, angle_min=a0, angle_max=a0 + (n - 1) * c * inc,
