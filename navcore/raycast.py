@@ -247,15 +247,20 @@ def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float
             return t_end
     step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
     step_y = 1 if dy > 0.0 else (-1 if dy < 0.0 else 0)
-    t_delta_x = 1.0 / abs(dx) if dx != 0.0 else _INF
-    t_delta_y = 1.0 / abs(dy) if dy != 0.0 else _INF
+    inv_x = 1.0 / dx if dx != 0.0 else _INF
+    inv_y = 1.0 / dy if dy != 0.0 else _INF
+    t_delta_x = abs(inv_x)
+    t_delta_y = abs(inv_y)
+    # the face ahead of cell c along x is at c + face_x (1 moving +x, 0 moving -x)
+    face_x = 1.0 if dx > 0.0 else 0.0
+    face_y = 1.0 if dy > 0.0 else 0.0
     t = t0
     while True:
         # (re)locate the cell holding the point at parameter t and its next faces
         cx = min(max(_axis_entry(gx + t * dx, dx), 0), w - 1)
         cy = min(max(_axis_entry(gy + t * dy, dy), 0), h - 1)
-        t_max_x = (cx + 1 - gx) / dx if dx > 0.0 else ((cx - gx) / dx if dx < 0.0 else _INF)
-        t_max_y = (cy + 1 - gy) / dy if dy > 0.0 else ((cy - gy) / dy if dy < 0.0 else _INF)
+        t_max_x = (cx + face_x - gx) * inv_x if dx != 0.0 else _INF
+        t_max_y = (cy + face_y - gy) * inv_y if dy != 0.0 else _INF
         while True:
             c = clear[cy, cx]
             if c == 0:

@@ -20,12 +20,16 @@ from navcore.raycast import cast_dir_clear, ray_circle, ray_segment
 @njit(cache=True)
 def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y: float,
                 a0: float, inc: float, range_max: float, circles: np.ndarray,
-                segments: np.ndarray, noise: np.ndarray, no_return: float,
+                segments: np.ndarray, noise_std: float, seed: int, no_return: float,
                 out: np.ndarray) -> None:
     """Ranges (float32 ``out``) of a fan of beams at world angles a0 + i * inc from the laser at
-    (x, y): nearest of map and objects, plus ``noise`` on hits, ``no_return`` where nothing is
-    hit. Beam directions come from a rotation recurrence (re-anchored every 32 beams), which
-    saves two transcendental calls per beam."""
+    (x, y): nearest of map and objects, plus Gaussian noise of ``noise_std`` on hits,
+    ``no_return`` where nothing is hit. Beam directions come from a rotation recurrence
+    (re-anchored every 32 beams), which saves two transcendental calls per beam. The noise comes
+    from numba's generator reseeded with ``seed`` (drawn by the caller from its seeded
+    Generator), ten times cheaper than drawing an array in numpy."""
+    if noise_std > 0.0:
+        np.random.seed(seed)
     gx = (x - ox) / res
     gy = (y - oy) / res
     t_end = range_max / res
@@ -53,7 +57,9 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
         if r >= range_max:
             out[i] = no_return
         else:
-            out[i] = min(max(r + noise[i], 0.0), range_max)
+            if noise_std > 0.0:
+                r += noise_std * np.random.standard_normal()
+            out[i] = min(max(r, 0.0), range_max)
 
 
 @njit(cache=True)

@@ -25,6 +25,10 @@ from navcore.clock import Clock
 from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
 _EPS = 1e-9
+# odometry pose covariance: a fixed small diagonal (the pose drifts without bound; consumers such
+# as robot_pose_ekf use the relative motion), shared and read-only
+_ODOM_POSE_COV = np.diag([1e-3, 1e-3, 1e-3])
+_ODOM_POSE_COV.setflags(write=False)
 
 
 @dataclass(frozen=True)
@@ -162,7 +166,6 @@ class Simulator:
             self._scan_period = (1.0 / lc.rate) / self._dt
             self._beams = np.ascontiguousarray(lc.angles)
             self._no_return = math.inf if lc.no_return_inf else lc.range_max
-            self._zero_noise = np.zeros(len(lc.angles))
         # imu
         ic = self.config.imu
         self._imu_msg: Imu | None = None
@@ -204,15 +207,16 @@ class Simulator:
             end = target
             if self._next_scan is not None:
                 end = min(end, self._next_scan)
-            boundary = min(world.next_change(now), self._next_fault_change(now))
-            if boundary < math.inf:
-                end = min(end, max(s + 1, _ceil_step((boundary - self._t0) / dt)))
-            moving = world.has_moving(now)
-            if moving:
-                end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
-            self._refill_normals(end - s)
-            if self._faults:
+            moving = False
+            if world.dynamic or self._faults:
+                boundary = min(world.next_change(now), self._next_fault_change(now))
+                if boundary < math.inf:
+                    end = min(end, max(s + 1, _ceil_step((boundary - self._t0) / dt)))
+                moving = world.has_moving(now)
+                if moving:
+                    end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
                 self._update_fault_vector(now)
+            self._refill_normals(end - s)
             circles, segments = world.shapes_at(now)
             n_cmd = self._cmd_until - s
             if self._battery_fraction() <= 0.0:
@@ -362,11 +366,13 @@ class Simulator:
         r2 = (twist.wz * period) ** 2
         scale = 1.0 / (period * period)
         var_s = (a4 * r2 + a5 * t2) * scale if self._omni else 0.0
+        tc = np.zeros((3, 3))
+        tc[0, 0] = (a3 * t2 + a4 * r2) * scale + 1e-9
+        tc[1, 1] = var_s + 1e-9
+        tc[2, 2] = (a1 * r2 + a2 * t2) * scale + 1e-9
         self._odom_msg = Odometry(
             stamp, Pose2D(float(st[ph.NOX]), float(st[ph.NOY]), float(st[ph.NOTH])), twist,
-            pose_covariance=np.diag([1e-3, 1e-3, 1e-3]),
-            twist_covariance=np.diag([(a3 * t2 + a4 * r2) * scale + 1e-9, var_s + 1e-9,
-                                      (a1 * r2 + a2 * t2) * scale + 1e-9]))
+            pose_covariance=_ODOM_POSE_COV, twist_covariance=tc)
         return self._odom_msg
 
     def _imu(self) -> Imu | None:
@@ -396,21 +402,20 @@ class Simulator:
     def _publish_scan(self) -> None:
         lc = self.config.laser
         now = self.time
-        if self.fault_active("laser_dropout", now):
+        if self._faults and self.fault_active("laser_dropout", now):
             return
-        if self.fault_active("laser_frozen", now) and self._scan_msg is not None:
-            old = self._scan_msg
-            ranges = old.ranges.copy()
+        if (self._faults and self.fault_active("laser_frozen", now)
+                and self._scan_msg is not None):
+            ranges = self._scan_msg.ranges.copy()
         else:
             p = self.laser_pose()
-            noise = (self._rng_laser.normal(0.0, lc.range_noise_stddev, len(self._beams))
-                     if lc.range_noise_stddev > 0 else self._zero_noise)
+            seed = int(self._rng_laser.integers(0, 2 ** 32)) if lc.range_noise_stddev > 0 else 0
             ranges = np.empty(len(self._beams), np.float32)
             w = self.world
             circles, segments = w.shapes_at(now)
             scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, p.x, p.y,
                         p.theta + lc.angle_min, lc.angle_increment, lc.range_max, circles,
-                        segments, noise, self._no_return, ranges)
+                        segments, lc.range_noise_stddev, seed, self._no_return, ranges)
         self._scan_msg = LaserScan(now, lc.angle_min, lc.angle_max, lc.angle_increment,
                                    lc.time_increment, lc.scan_time, lc.range_min, lc.range_max,
                                    ranges)

@@ -234,6 +234,11 @@ class World:
                     nxt = s
         return nxt
 
+    @property
+    def dynamic(self) -> bool:
+        """Whether anything changes with time (moving, appearing or disappearing objects)."""
+        return self._timed or self._moving
+
     def has_moving(self, t: float) -> bool:
         if not self._moving:
             return False
