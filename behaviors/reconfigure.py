@@ -31,13 +31,15 @@ class SetParameters(DecoratorNode):
 
     On the first tick of a run the values are applied (all or nothing) and the previous values
     kept; the child is then ticked and its status returned. When the node ends (finished or
-    halted) the previous values are restored. FAILURE (child not ticked) when the namespace is
-    unknown or a value is rejected; ``error_msg`` says which.
+    halted) the previous values are restored. When the namespace is unknown or a value is
+    rejected, ``error_msg`` says which and the node FAILs without ticking the child, unless
+    ``required`` is false: then the child runs with the parameters unchanged.
     """
 
     INPUT_PORTS = {
         "namespace": PortInformation(str, True, "ROS namespace, e.g. DWAPlannerROS"),
         "values": PortInformation(dict, True, "parameter name -> value"),
+        "required": PortInformation(bool, False, "fail when the change is rejected", True),
     }
     OUTPUT_PORTS = {"error_msg": PortInformation(str, False, "why the change was rejected")}
     DEFAULT_KEYS = {"error_msg": "set_parameters_error_msg"}
@@ -67,8 +69,9 @@ class SetParameters(DecoratorNode):
             if problem:
                 self.write("error_msg", problem)
                 self.say(problem)
-                yield from self._finish(Status.FAILURE)
-                return
+                if self.get_input("required"):
+                    yield from self._finish(Status.FAILURE)
+                    return
         yield from self.decorated.tick()
         yield from self._finish(self.decorated.status)
 

@@ -115,3 +115,21 @@ def markdown_catalogue() -> str:
                            f"| {p.type_name} | {default} | {_md(p.description)} |")
             out.append("")
     return "\n".join(out).rstrip() + "\n"
+
+
+def update_docs(path: str = "docs/trees.md") -> bool:
+    """Rewrite the node reference between the markers of ``path``; True if it changed."""
+    start, end = "<!-- nodes:start -->\n", "<!-- nodes:end -->"
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    a, b = text.index(start) + len(start), text.index(end)
+    new = text[:a] + markdown_catalogue() + text[b:]
+    if new != text:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(new)
+    return new != text
+
+
+if __name__ == "__main__":  # python -m behaviors.registry [docs/trees.md]
+    import sys
+    print("updated" if update_docs(*sys.argv[1:2]) else "already in step")

@@ -201,3 +201,15 @@ def test_goal_updated_controller_replans_only_for_a_new_goal():
     assert child.ticked == 2                         # running, then done: not ticked again
     bb.goal = Pose2D(2.0, 0.0, 0.0)
     assert run(node, 2) == [S, S] and child.ticked == 3
+
+
+def test_set_parameters_not_required_runs_the_child_unchanged():
+    params = _params()
+    child = Counter("c", [S], S)
+    node = make("SetParameters", namespace="/sp5", child=child)
+    node.wire("/sp5", {}, {"namespace": "TrajectoryPlannerROS", "values": {"a": 1.0},
+                           "required": False})
+    node.setup(parameters=params)
+    node.tick_once()
+    assert node.status == S and child.ticked == 1
+    assert "no parameter namespace 'TrajectoryPlannerROS'" in node.feedback_message

@@ -355,5 +355,4 @@ def test_docs_node_reference_is_in_step():
     text = (Path(__file__).resolve().parent.parent / "docs" / "trees.md").read_text()
     start, end = "<!-- nodes:start -->\n", "<!-- nodes:end -->"
     table = text[text.index(start) + len(start):text.index(end)]
-    assert table == markdown_catalogue(), "run: python -c 'from behaviors.registry import " \
-        "markdown_catalogue' and paste it between the nodes markers of docs/trees.md"
+    assert table == markdown_catalogue(), "run: python -m behaviors.registry"
