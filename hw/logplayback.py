@@ -16,9 +16,11 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
-from navcore.types import LaserScan, Odometry, Pose2D, Twist, normalize_angle
 from hw.interfaces import BaseEvents, BatteryState
+from navcore.maps import OCCUPIED, UNKNOWN, OccupancyGrid
+from navcore.types import LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
 
 class LogError(ValueError):
@@ -63,6 +65,50 @@ class CarmenLog:
                          time_increment=0.0,
                          scan_time=0.0, range_min=0.0, range_max=range_max,
                          ranges=self.scan_ranges[k], frame_id="laser")
+
+
+@njit(cache=True)
+def _mark_free(data: np.ndarray, poses: np.ndarray, angles: np.ndarray, ranges: np.ndarray,
+               ox: float, oy: float, res: float) -> None:
+    """Mark cells along each beam free, walking in half-cell steps up to one cell short."""
+    h, w = data.shape
+    for k in range(poses.shape[0]):
+        for j in range(angles.shape[1]):
+            c = math.cos(angles[k, j])
+            s = math.sin(angles[k, j])
+            d = 0.0
+            while d < ranges[k, j] - res:
+                mx = int((poses[k, 0] + d * c - ox) / res)
+                my = int((poses[k, 1] + d * s - oy) / res)
+                if 0 <= mx < w and 0 <= my < h:
+                    data[my, mx] = 0
+                d += 0.5 * res
+
+
+def map_from_log(log: CarmenLog, resolution: float = 0.05, range_max: float = 50.0,
+                 max_ray: float = 20.0) -> OccupancyGrid:
+    """A map consistent with the log by construction: every scan drawn at its reference pose
+    (cells along a beam free, the end cell occupied), in the log frame. For logs shipped without
+    a map (FR079), and to measure a localiser without map-registration error."""
+    if not resolution > 0.0:
+        raise ValueError(f"map_from_log: resolution must be > 0, got {resolution}")
+    n = log.scan_ranges.shape[1]
+    bearings = -log.fov / 2 + (log.fov / n) * np.arange(n)
+    r = log.scan_ranges.astype(np.float64)
+    hit = r < min(range_max, max_ray)
+    a = log.reference[:, 2:3] + bearings[None, :]
+    ex = log.reference[:, 0:1] + r * np.cos(a)
+    ey = log.reference[:, 1:2] + r * np.sin(a)
+    lo = np.array([ex[hit].min(), ey[hit].min()]) - 1.0
+    hi = np.array([ex[hit].max(), ey[hit].max()]) + 1.0
+    w, h = (np.ceil((hi - lo) / resolution)).astype(int)
+    data = np.full((h, w), UNKNOWN, np.int16)
+    free_r = np.minimum(np.where(np.isfinite(r), r, max_ray), max_ray)
+    _mark_free(data, log.reference, a, free_r, float(lo[0]), float(lo[1]), float(resolution))
+    hx = ((ex[hit] - lo[0]) / resolution).astype(np.int64)
+    hy = ((ey[hit] - lo[1]) / resolution).astype(np.int64)
+    data[hy, hx] = OCCUPIED
+    return OccupancyGrid(data, resolution, Pose2D(float(lo[0]), float(lo[1]), 0.0))
 
 
 def rotate_poses(poses: np.ndarray, angle: float) -> np.ndarray:

@@ -53,7 +53,8 @@ class Amcl:
         self._w_slow = 0.0
         self._w_fast = 0.0
         self._resample_count = 0
-        self._odom: Pose2D | None = None  # odometry pose at the last filter update
+        self._odom: Pose2D | None = None  # odometry pose the particles were last moved to
+        self._odom_sensor: Pose2D | None = None  # odometry pose at the last scan update
         self._force_update = False
         self.converged = False
         self.n_effective = 0.0
@@ -115,7 +116,9 @@ class Amcl:
         self.particles = np.ascontiguousarray(parts, dtype=np.float64)
         self.weights = np.full(len(parts), 1.0 / len(parts))
         self._w_slow = self._w_fast = 0.0
-        self._odom = None  # like amcl's pf_init_ = false: the next scan updates without motion
+        # like amcl's pf_init_ = false: the next scan is integrated without motion
+        self._odom = None
+        self._odom_sensor = None
         self._resample_count = 0
         self._refresh_clusters()
 
@@ -133,40 +136,51 @@ class Amcl:
 
     # ----------------------------------------------------------------- the filter step
     def update(self, odom_pose: Pose2D, scan: LaserScan | None, laser_mount: Pose2D) -> bool:
-        """One amcl laser callback. True when the filter was updated (motion and scan when the
-        robot moved at least update_min_d / update_min_a, on the first scan after
-        (re)initialisation, or after request_nomotion_update).
+        """One amcl laser callback. True when the filter was updated: the particles were moved
+        to ``odom_pose`` and weighed with ``scan``. That happens when the odometry moved at least
+        update_min_d (in x or y) or update_min_a since the last scan update, on the first scan
+        after (re)initialisation, and after request_nomotion_update.
 
-        With ``scan`` None a due update moves the particles only (no weighting, no resampling).
+        With ``scan`` None this is ``predict(odom_pose)`` and returns False.
         """
-        p = self.params
-        if self._odom is None:
-            moved = True  # first data after (re)initialisation: weigh, do not move
-            delta = None
-        else:
-            dx = odom_pose.x - self._odom.x
-            dy = odom_pose.y - self._odom.y
-            dth = angle_diff(odom_pose.theta, self._odom.theta)
-            moved = (abs(dx) > p.update_min_d or abs(dy) > p.update_min_d
-                     or abs(dth) > p.update_min_a or self._force_update)
-            delta = (dx, dy, dth)
-        if not moved:
+        if scan is None:
+            self.predict(odom_pose)
             return False
-        if delta is not None:
-            alphas = np.array([p.odom_alpha1, p.odom_alpha2, p.odom_alpha3, p.odom_alpha4,
-                               p.odom_alpha5])
-            noise = self._rng.standard_normal((len(self.particles), 3))
-            sample_motion(self.particles, self._odom.theta, delta[0], delta[1], delta[2], alphas,
-                          MODEL_CODES[p.odom_model_type], noise)
-        self._odom = odom_pose
+        p = self.params
+        ref = self._odom_sensor
+        if ref is not None and not self._force_update:
+            if not (abs(odom_pose.x - ref.x) > p.update_min_d
+                    or abs(odom_pose.y - ref.y) > p.update_min_d
+                    or abs(angle_diff(odom_pose.theta, ref.theta)) > p.update_min_a):
+                return False
+        self.predict(odom_pose)
+        self._odom_sensor = odom_pose
         self._force_update = False
-        if scan is not None:
-            self._sensor_update(scan, laser_mount)
-            self._resample_count += 1
-            if self._resample_count % p.resample_interval == 0:
-                self._resample()
+        self._sensor_update(scan, laser_mount)
+        self._resample_count += 1
+        if self._resample_count % p.resample_interval == 0:
+            self._resample()
         self._refresh_clusters()
         return True
+
+    def predict(self, odom_pose: Pose2D) -> None:
+        """Move the particles by the odometry since the last applied odometry pose (motion model
+        only). amcl does this only when a scan is integrated; calling it for odometry that
+        arrives between scans splits the motion into the short steps the noise model assumes."""
+        last = self._odom
+        self._odom = odom_pose
+        if last is None:
+            return  # first odometry after (re)initialisation: nothing to move by
+        dx, dy = odom_pose.x - last.x, odom_pose.y - last.y
+        dth = angle_diff(odom_pose.theta, last.theta)
+        if dx == 0.0 and dy == 0.0 and dth == 0.0:
+            return
+        p = self.params
+        alphas = np.array([p.odom_alpha1, p.odom_alpha2, p.odom_alpha3, p.odom_alpha4,
+                           p.odom_alpha5])
+        noise = self._rng.standard_normal((len(self.particles), 3))
+        sample_motion(self.particles, last.theta, dx, dy, dth, alphas,
+                      MODEL_CODES[p.odom_model_type], noise)
 
     def _beams(self, scan: LaserScan) -> tuple[np.ndarray, np.ndarray, float]:
         """Subsampled (ranges, bearings in the laser frame, range_max) as amcl prepares them."""
@@ -258,6 +272,7 @@ class Amcl:
         self._mean, self._cov = mean, cov
         best = cm[int(np.argmax(cw))]
         self._pose = Pose2D(float(best[0]), float(best[1]), float(best[2]))
+        self._pose_odom = self._odom  # the odometry pose this estimate belongs to
 
     # ----------------------------------------------------------------- outputs
     def pose(self) -> Pose2D:
@@ -270,7 +285,7 @@ class Amcl:
 
     def map_to_odom(self) -> Pose2D:
         """The map -> odom correction: map pose of the odom frame's origin."""
-        odom = self._odom if self._odom is not None else Pose2D()
+        odom = self._pose_odom if self._pose_odom is not None else Pose2D()
         return self._pose.compose(odom.inverse())
 
     @property
