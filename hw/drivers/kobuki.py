@@ -79,7 +79,8 @@ class KobukiDriver(SerialDriver):
 
     # -- start-up ------------------------------------------------------------------------------
     def _handshake(self, port: serial.SerialBase) -> None:
-        port.reset_input_buffer()
+        # no input flush: the frame finder skips stale or partial bytes, and in lock-step the
+        # frames already sent are all the handshake will get until the clock moves
         self._dec.reset()
         self._odo = kc.KobukiOdometry(self.params.use_imu_heading)
         self._sent = None
@@ -91,8 +92,8 @@ class KobukiDriver(SerialDriver):
             deadline = wire_deadline(0.15)
             while not deadline.expired():
                 self._take(port.read(max(1, port.in_waiting)))
-                if self.versions:
-                    return
+                if self.versions or (self.polling and self.feedback is not None):
+                    return          # in lock-step the clock will not move while we wait
         if self.feedback is None:
             raise HandshakeError("no valid feedback frame from the base")
         # streaming but the version reply was lost three times: usable all the same

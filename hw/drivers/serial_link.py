@@ -62,6 +62,8 @@ class SerialDriver:
         self._thread: threading.Thread | None = None
         self._port: serial.SerialBase | None = None
         self._last_valid = 0.0
+        self._retry_at = -float("inf")
+        self.polling = False       # True once poll() drives this driver instead of a thread
 
     # -- lifecycle ---------------------------------------------------------------------------
     def start(self) -> SerialDriver:
@@ -136,22 +138,44 @@ class SerialDriver:
                 if not self._connect():
                     self._stop.wait(self.retry_period)
                 continue
-            port = self._port
-            try:
+            self._step(self._port, block=True)
+
+    def poll(self) -> None:
+        """Lock-step use without a thread: connect if needed, take in everything the device has
+        sent up to now, and do the periodic writes. On a SimClock with ``sim://`` devices, a
+        loop that advances the clock and polls every driver once per cycle is deterministic."""
+        if self._thread is not None:
+            raise RuntimeError(f"{self.name}: poll() is for drivers not started as a thread")
+        self.polling = True
+        if self._port is None:
+            if self.clock.now() < self._retry_at:
+                return
+            if not self._connect():
+                self._retry_at = self.clock.now() + self.retry_period
+                return
+        self._step(self._port, block=False)
+
+    def _step(self, port: serial.SerialBase, block: bool) -> None:
+        """One turn of the reader: read, decode, periodic writes, silence check."""
+        try:
+            if block:
                 data = port.read(max(1, port.in_waiting))
-                if data:
-                    self._on_bytes(data)
-                self._on_tick(port)
-                self.ticks += 1
-            except (serial.SerialException, OSError) as e:
-                self.last_error = f"{self.url}: {e}"
-                self._drop_port()
-                continue
-            except Exception as e:    # a codec bug must not kill the thread; count and go on
-                self._reject(f"{self.url}: {type(e).__name__}: {e}")
-            if self.clock.now() - self._last_valid > self.silence_timeout:
-                self.last_error = f"{self.url}: no valid message for {self.silence_timeout} s"
-                self._drop_port()       # reconnect: the device may have reset or hung
+            else:
+                waiting = port.in_waiting
+                data = port.read(waiting) if waiting else b""
+            if data:
+                self._on_bytes(data)
+            self._on_tick(port)
+            self.ticks += 1
+        except (serial.SerialException, OSError) as e:
+            self.last_error = f"{self.url}: {e}"
+            self._drop_port()
+            return
+        except Exception as e:    # a codec bug must not kill the reader; count and go on
+            self._reject(f"{self.url}: {type(e).__name__}: {e}")
+        if self.clock.now() - self._last_valid > self.silence_timeout:
+            self.last_error = f"{self.url}: no valid message for {self.silence_timeout} s"
+            self._drop_port()       # reconnect: the device may have reset or hung
 
     def _connect(self) -> bool:
         try:
