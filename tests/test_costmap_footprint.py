@@ -39,7 +39,8 @@ def test_polygon_footprint_padding_and_radii():
     assert make_footprint("[]", robot_radius=0.3).shape == (16, 2)
 
 
-@pytest.mark.parametrize("bad", [[[0, 0], [1, 1]], [[0, 0, 0], [1, 1, 1], [2, 2, 2]], "[[0,", "abc"])
+@pytest.mark.parametrize("bad", [[[0, 0], [1, 1]], [[0, 0, 0], [1, 1, 1], [2, 2, 2]], "[[0,",
+                                 "abc"])
 def test_bad_footprints_are_clear_errors(bad):
     with pytest.raises(ValueError, match="footprint"):
         make_footprint(bad)
@@ -84,7 +85,7 @@ def _inside(px, py, poly):
 
 def _brute_force(costs, ox, oy, res, fp, x, y, th):
     poly = transform_footprint(fp, x, y, th)
-    cells = [(int(math.floor((px - ox) / res)), int(math.floor((py - oy) / res))) for px, py in poly]
+    cells = [(math.floor((px - ox) / res), math.floor((py - oy) / res)) for px, py in poly]
     h, w = costs.shape
     if any(not (0 <= cx < w and 0 <= cy < h) for cx, cy in cells):
         return -1

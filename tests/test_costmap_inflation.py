@@ -63,7 +63,8 @@ def test_inflated_costs_equal_the_formula_around_one_obstacle():
     costs = np.zeros((41, 41), np.uint8)
     costs[20, 20] = LETHAL_OBSTACLE
     inflate(costs, cost_table(RES, INSCRIBED, RADIUS, CSF))
-    for dx, dy in [(0, 0), (1, 0), (3, 2), (4, 0), (5, 0), (6, 6), (11, 0), (7, 8), (8, 8), (12, 0)]:
+    for dx, dy in [(0, 0), (1, 0), (3, 2), (4, 0), (5, 0), (6, 6), (11, 0), (7, 8), (8, 8),
+                   (12, 0)]:
         d = math.hypot(dx, dy)
         expected = compute_cost(d, RES, INSCRIBED, CSF) if d <= 11 else 0
         assert costs[20 + dy, 20 + dx] == expected, (dx, dy)

@@ -358,7 +358,8 @@ def test_ros_parameter_yaml_means_the_same_pre_hydro_and_with_plugins():
 
 @pytest.mark.parametrize("params, match", [
     ({"plugins": ["obstacle_layer"], "widht": 5.0}, "widht.*did you mean 'width'"),
-    ({"plugins": ["inflation_layer"], "inflation_layer": {"inflation_radis": 1}}, "inflation_radis"),
+    ({"plugins": ["inflation_layer"], "inflation_layer": {"inflation_radis": 1}},
+     "inflation_radis"),
     ({"plugins": ["obstacle_layer"], "obstacle_layer": {"observation_sources": "scan"}},
      "observation source 'scan'"),
     ({"plugins": ["obstacle_layer"], "obstacle_layer": {

@@ -30,7 +30,8 @@ def parse_footprint(footprint: Any) -> np.ndarray:
         try:
             footprint = ast.literal_eval(footprint.strip())
         except (ValueError, SyntaxError) as e:
-            raise ValueError(f"footprint: cannot parse {footprint!r} as [[x, y], ...]: {e}") from None
+            raise ValueError(f"footprint: cannot parse {footprint!r} as [[x, y], ...]: {e}"
+                             ) from None
     try:
         fp = np.asarray(footprint, dtype=np.float64)
     except (TypeError, ValueError):
@@ -48,8 +49,8 @@ def make_footprint(footprint: Any = None, robot_radius: float = 0.46,
                    footprint_padding: float = 0.01) -> np.ndarray:
     """The padded footprint polygon, (N, 2) float64, as Costmap2DROS builds it.
 
-    A given ``footprint`` polygon wins; otherwise ``robot_radius`` gives a 16-gon. Padding then moves
-    each vertex outward per axis (x += sign0(x) * pad, y += sign0(y) * pad), like padFootprint.
+    A given ``footprint`` polygon wins; otherwise ``robot_radius`` gives a 16-gon. Padding then
+    moves each vertex outward per axis (x += sign0(x) * pad, y += sign0(y) * pad), like padFootprint.
     An empty list or string counts as "not given", as in ROS.
     """
     given = footprint is not None

@@ -24,7 +24,7 @@ from navcore.params import Param
 
 def compute_cost(distance_cells: float, resolution: float, inscribed_radius: float,
                  cost_scaling_factor: float) -> int:
-    """costmap_2d computeCost: the inflated cost of a cell ``distance_cells`` cells from an obstacle."""
+    """costmap_2d computeCost: the cost of a cell ``distance_cells`` cells from a lethal cell."""
     if distance_cells == 0:
         return LETHAL_OBSTACLE
     d = distance_cells * resolution

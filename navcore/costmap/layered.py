@@ -10,7 +10,6 @@ picks the voxel layer, and the top-level obstacle and inflation parameters move 
 
 from __future__ import annotations
 
-import math
 from typing import Any, Iterable, Mapping
 
 import numpy as np

@@ -32,7 +32,7 @@ def interpret_map(data: np.ndarray, lethal_cost_threshold: int = 100, unknown_co
     if trinary_costmap:
         out = np.where(v >= lethal, LETHAL_OBSTACLE, FREE_SPACE)
     else:
-        scaled = (v / lethal * LETHAL_OBSTACLE) if lethal > 0 else np.full(v.shape, float(LETHAL_OBSTACLE))
+        scaled = (v / lethal * LETHAL_OBSTACLE) if lethal > 0 else np.full(v.shape, 254.0)
         out = np.where(v >= lethal, LETHAL_OBSTACLE, scaled.astype(np.int64))
     out = np.where(v == unknown, NO_INFORMATION if track_unknown_space else FREE_SPACE, out)
     return out.astype(np.uint8)
