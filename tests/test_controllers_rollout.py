@@ -1,0 +1,189 @@
+"""TrajectoryPlannerROS: ramped rollout sampling, rotations, escapes, goal handling."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from navcore.controllers import TrajectoryPlanner, make_controller
+from navcore.controllers.trajectory_rollout import footprint_cells, parse_y_vels
+from navcore.costmap.costmap2d import Costmap2D
+from navcore.costmap.footprint import footprint_cost
+from navcore.params import ParameterError
+from navcore.types import Path, Pose2D, Twist
+from tests.test_controllers_support import RECT, drive, inflate, straight_path
+
+DIFF = {"holonomic_robot": False}
+
+
+def empty_map(size: int = 120, ox: float = -3.0, oy: float = -3.0) -> Costmap2D:
+    return Costmap2D(size, size, 0.05, ox, oy)
+
+
+def box(cm: Costmap2D, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    lethal = np.zeros(cm.costs.shape, dtype=bool)
+    mx0, my0 = cm.world_to_map_no_bounds(x0, y0)
+    mx1, my1 = cm.world_to_map_no_bounds(x1, y1)
+    lethal[max(0, my0):max(0, my1 + 1), max(0, mx0):max(0, mx1 + 1)] = True
+    return lethal
+
+
+def test_defaults_are_the_effective_cfg_values():
+    tr = TrajectoryPlanner(empty_map(), RECT)
+    p = tr.params
+    assert (p.sim_time, p.vx_samples, p.dwa, p.holonomic_robot) == (1.7, 20, False, True)
+    assert (p.goal_distance_bias, p.angular_sim_granularity, p.escape_reset_theta) == \
+        (0.8, 0.025, pytest.approx(math.pi / 2))
+    assert (p.prune_plan, p.yaw_goal_tolerance, p.meter_scoring) == (True, 0.05, False)
+    assert parse_y_vels(p.y_vels) == [-0.3, -0.1, 0.1, -0.3]
+    with pytest.raises(ParameterError, match="heading_scoring"):
+        TrajectoryPlanner(empty_map(), RECT, {"heading_scoring": True})   # not supported here
+
+
+def test_empty_corridor_drives_forward_at_the_speed_limit():
+    cm = empty_map()
+    tr = make_controller("base_local_planner/TrajectoryPlannerROS", cm, RECT, DIFF)
+    path = straight_path(0.0, 0.0, 20.0, 0.0)
+    pose, vel, results = drive(tr, Pose2D(), Twist(), path, 30, cm, rolling=True)
+    assert all(r.status == "following" for _, r in results)
+    assert vel.vx == pytest.approx(0.55) and abs(vel.wz) < 1e-9 and abs(pose.y) < 1e-6
+    # rollout samples are ramped: the trajectory reaches the sample speed at acc_lim_x
+    r = results[0][1]
+    v = np.hypot(*np.diff(r.best[:3, :2], axis=0).T) / (1.7 / len(r.best))
+    assert v[0] <= 2.5 * 1.7 / len(r.best) * 2 + 1e-9
+
+
+def test_holonomic_robot_samples_strafes():
+    cm = empty_map()
+    path = straight_path(0.0, 0.0, 3.0, 0.0)
+    holo = TrajectoryPlanner(cm, RECT).compute_velocity(Pose2D(), Twist(0.2, 0, 0), path)
+    assert {(0.1, 0.1), (0.1, -0.1)} <= {(s[0], s[1]) for s in holo.samples}
+    assert set(parse_y_vels("-0.3,-0.1,0.1,-0.3")) <= set(holo.samples[:, 1])
+    diff = TrajectoryPlanner(cm, RECT, DIFF).compute_velocity(Pose2D(), Twist(0.2, 0, 0), path)
+    assert (diff.samples[:, 1] == 0.0).all()
+
+
+def test_facing_away_it_turns_in_place_toward_the_goal():
+    cm = empty_map()
+    tr = TrajectoryPlanner(cm, RECT, DIFF)
+    path = straight_path(0.0, 0.0, 2.5, 0.0)
+    r = tr.compute_velocity(Pose2D(0.0, 0.0, 2.0), Twist(), path)   # the path lies behind-right
+    assert r.status == "following"
+    assert r.cmd.vx == 0.0 and r.cmd.wz <= -0.4                      # turns right, in place
+    pose, _, _ = drive(tr, Pose2D(0.0, 0.0, 2.0), Twist(), path, 60)
+    assert abs(pose.theta) < 0.5 and pose.x > 0.2                     # then drives off
+
+
+def test_boxed_in_it_backs_off_at_escape_vel():
+    cm = empty_map()
+    inflate(cm, box(cm, 0.3, -0.6, 0.4, 0.6) | box(cm, -0.25, 0.28, 0.4, 0.35)
+            | box(cm, -0.25, -0.35, 0.4, -0.28))
+    tr = TrajectoryPlanner(cm, RECT, DIFF)
+    path = straight_path(0.0, 0.0, 2.5, 0.0)
+    r = tr.compute_velocity(Pose2D(), Twist(), path)
+    assert r.status == "following" and r.cmd == Twist(-0.1, 0.0, 0.0)
+    assert tr._escaping and "escaping" in r.reason
+    r2 = tr.compute_velocity(Pose2D(-0.02, 0.0, 0.0), Twist(-0.1, 0.0, 0.0), path)
+    assert not (r2.samples[:, 0] > 0).any()              # no forward samples while escaping
+    tr.compute_velocity(Pose2D(-0.15, 0.0, 0.0), Twist(-0.1, 0.0, 0.0), path)
+    assert not tr._escaping                              # escape_reset_dist 0.10 m passed
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.4, 2.0), st.floats(-1.0, 1.0), st.floats(0.05, 0.4)),
+                min_size=1, max_size=4),
+       st.floats(0.0, 0.55), st.floats(-0.8, 0.8))
+def test_never_picks_a_forward_trajectory_that_touches_a_lethal_cell(obstacles, v0, w0):
+    cm = empty_map(80, -2.0, -2.0)
+    lethal = np.zeros(cm.costs.shape, dtype=bool)
+    for x, y, half in obstacles:
+        lethal |= box(cm, x - half, y - half, x + half, y + half)
+    inflate(cm, lethal)
+    tr = TrajectoryPlanner(cm, RECT, dict(DIFF, vx_samples=8, vtheta_samples=10))
+    r = tr.compute_velocity(Pose2D(), Twist(v0, 0.0, w0), straight_path(0.0, 0.0, 3.0, 0.0))
+    if r.status != "following" or tr._escaping:
+        return          # the escape may back into what the map calls blocked, as in ROS
+    for x, y, th in r.best:
+        assert footprint_cost(cm.costs, cm.origin_x, cm.origin_y, cm.resolution, RECT,
+                              x, y, th) < 254
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 2**31 - 1))
+def test_branch_and_bound_picks_what_exhaustive_scoring_picks(seed):
+    rng = np.random.default_rng(seed)
+    cm = empty_map(80, -2.0, -2.0)
+    lethal = rng.random(cm.costs.shape) < 0.004
+    lethal[32:48, 32:48] = False
+    inflate(cm, lethal)
+    path = Path(np.column_stack([np.linspace(0, 2, 41), 0.6 * np.sin(np.linspace(0, 3, 41)),
+                                 np.zeros(41)]))
+    pose, vel = Pose2D(0.0, 0.0, float(rng.uniform(-1, 1))), Twist(0.3, 0.0, 0.2)
+    fast = TrajectoryPlanner(cm, RECT, dict(DIFF, vx_samples=8, vtheta_samples=12))
+    full = TrajectoryPlanner(cm, RECT, dict(DIFF, vx_samples=8, vtheta_samples=12))
+    full.exhaustive = True
+    a = fast.compute_velocity(pose, vel, path)
+    b = full.compute_velocity(pose, vel, path)
+    assert (a.status, a.cmd) == (b.status, b.cmd)
+
+
+def test_goal_reached_and_rotate_to_goal_yaw():
+    cm = empty_map()
+    tr = TrajectoryPlanner(cm, RECT, DIFF)
+    path = Path(np.array([[-1.0, 0.0, -1.2], [0.0, 0.0, -1.2]]))
+    r = tr.compute_velocity(Pose2D(0.03, 0.0, 0.0), Twist(0.3, 0.0, 0.0), path)
+    assert r.status == "rotating_to_goal" and r.cmd.vx == pytest.approx(0.3 - 2.5 / 20)
+    pose, _, results = drive(tr, Pose2D(0.03, 0.0, 0.0), Twist(), path, 200)
+    assert results[-1][1].status == "goal_reached" and tr.is_goal_reached()
+    assert abs(pose.theta + 1.2) <= 0.05
+    turns = [r.cmd.wz for _, r in results if r.status == "rotating_to_goal"]
+    assert turns and all(-1.0 <= w <= -0.4 for w in turns)   # min_in_place_vel_theta floor
+    tr.set_plan(straight_path(0.0, 0.0, 2.0, 0.0))
+    assert not tr.is_goal_reached()                           # a new plan clears it
+
+
+@pytest.mark.parametrize("latch", [True, False])
+def test_latch_xy_goal_tolerance(latch):
+    cm = empty_map()
+    tr = TrajectoryPlanner(cm, RECT, dict(DIFF, latch_xy_goal_tolerance=latch))
+    path = Path(np.array([[-1.0, 0.0, 1.5], [0.0, 0.0, 1.5]]))
+    assert tr.compute_velocity(Pose2D(0.05, 0, 0), Twist(), path).status == "rotating_to_goal"
+    r = tr.compute_velocity(Pose2D(0.15, 0.0, 0.3), Twist(), path)
+    assert r.status == ("rotating_to_goal" if latch else "following")
+
+
+def test_meter_scoring_scales_the_biases_by_the_resolution():
+    cm = empty_map()
+    path = straight_path(0.0, 0.0, 2.0, 0.0)
+    cells = TrajectoryPlanner(cm, RECT, DIFF)
+    metres = TrajectoryPlanner(cm, RECT, dict(DIFF, meter_scoring=True))
+    a = cells.compute_velocity(Pose2D(), Twist(0.3, 0, 0), path)
+    b = metres.compute_velocity(Pose2D(), Twist(0.3, 0, 0), path)
+    assert a.cmd == b.cmd
+    k = int(np.argmin(np.where(a.scores >= 0, a.scores, np.inf)))
+    assert b.scores[k] == pytest.approx(a.scores[k] * 0.05)
+
+
+def test_start_footprint_cells_are_its_inside():
+    cm = empty_map()
+    mask = footprint_cells(cm, RECT, Pose2D(0.0, 0.0, 0.0))
+    assert mask.sum() == 10 * 8 or mask.sum() == 10 * 9        # 0.5 m x 0.44 m of 5 cm cells
+    rot = footprint_cells(cm, RECT, Pose2D(0.0, 0.0, math.pi / 2))
+    ys, xs = np.nonzero(rot)
+    assert np.ptp(ys) > np.ptp(xs)                              # turned: long along y
+
+
+def test_never_raises_and_reports_why():
+    cm = empty_map()
+    tr = TrajectoryPlanner(cm, RECT, DIFF)
+    assert tr.compute_velocity(Pose2D(), Twist()).status == "no_plan"
+    r = tr.compute_velocity(Pose2D(), Twist(float("inf"), 0, 0), straight_path(0, 0, 1, 0))
+    assert r.status == "no_valid_trajectory" and r.cmd.is_zero()
+    holo = TrajectoryPlanner(cm, RECT)
+    holo.params.set({"y_vels": "a,b"})
+    r = holo.compute_velocity(Pose2D(), Twist(), straight_path(0, 0, 1, 0))
+    assert r.status == "no_valid_trajectory" and "y_vels" in r.reason
