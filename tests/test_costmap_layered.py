@@ -410,3 +410,18 @@ def test_each_real_map_builds_a_global_costmap(shared_data, name):
     unknown = grid.data == -1
     assert set(np.unique(costs[unknown])) <= {NO_INFORMATION, INSCRIBED_INFLATED_OBSTACLE,
                                                LETHAL_OBSTACLE}
+
+
+def test_bad_sensor_data_and_poses_do_not_corrupt_the_map():
+    cm = _local(plugins=["obstacle_layer"])
+    cm.add_points(np.array([[np.nan, 1.0, 0.3], [1.025, np.inf, 0.3], [1.025, 0.025, 0.3]]),
+                  (0.0, 0.0, 0.3))
+    assert cm.update_map(Pose2D()) is not None
+    assert np.count_nonzero(cm.costmap.costs) == 1
+    with pytest.raises(ValueError, match="not finite"):
+        cm.add_points(np.array([[1.0, 1.0, 0.3]]), (np.nan, 0.0, 0.3))
+    before = cm.costmap.costs.copy()
+    assert cm.update_map(Pose2D(np.nan, 0.0, 0.0)) is None
+    assert "not finite" in cm.last_error and not cm.is_current()
+    assert np.array_equal(cm.costmap.costs, before)
+    assert cm.footprint_cost(np.nan, 0.0, 0.0) == -1

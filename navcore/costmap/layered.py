@@ -10,6 +10,7 @@ picks the voxel layer, and the top-level obstacle and inflation parameters move 
 
 from __future__ import annotations
 
+import math
 from typing import Any, Iterable, Mapping
 
 import numpy as np
@@ -158,6 +159,7 @@ class LayeredCostmap:
                                  res, params.origin_x, params.origin_y, default)
         self.size_locked = False
         self.current = True
+        self.last_error = ""  # why the last update_map did nothing, if it did nothing
         self.warnings: list[str] = []  # parameters accepted but without effect, as in ROS
         self._last_pose: Pose2D | None = None
         self.last_window: tuple[int, int, int, int] | None = None
@@ -274,8 +276,9 @@ class LayeredCostmap:
                 layer.add_points(points, origin, source)
 
     def is_current(self) -> bool:
-        """False if a sensor source missed its ``expected_update_rate``."""
-        return all(l.current for l in self.layers)
+        """False if a sensor source missed its ``expected_update_rate`` or the last update
+        failed (see ``last_error``)."""
+        return self.current and all(l.current for l in self.layers)
 
     # ------------------------------------------------------------ update
 
@@ -286,6 +289,12 @@ class LayeredCostmap:
         Returns the cell window [x0, xn) x [y0, yn) that was recomposed, or None.
         """
         x, y, yaw = float(robot_pose.x), float(robot_pose.y), float(robot_pose.theta)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(yaw)):
+            # called from the control loop: report, do not raise; the map stays as it was
+            self.last_error = f"{self.name}: robot pose {robot_pose} is not finite; not updated"
+            self.current = False
+            return None
+        self.last_error = ""
         self._last_pose = Pose2D(x, y, yaw)
         m = self.costmap
         if self.rolling:

@@ -371,8 +371,12 @@ class ObstacleLayer(CostmapLayer):
             self._add(buf, pts, org)
 
     def _add(self, buf: ObservationBuffer, pts: np.ndarray, origin: np.ndarray) -> None:
+        """Store an observation; non-finite points are dropped (they would index anywhere)."""
+        if not np.all(np.isfinite(origin)):
+            raise ValueError(f"{self.name}: sensor origin {origin!r} is not finite")
         p = buf.params
-        keep = (pts[:, 2] >= p.min_obstacle_height) & (pts[:, 2] <= p.max_obstacle_height)
+        keep = (np.isfinite(pts).all(axis=1) & (pts[:, 2] >= p.min_obstacle_height)
+                & (pts[:, 2] <= p.max_obstacle_height))
         pts = np.ascontiguousarray(pts[keep]) if not keep.all() else np.ascontiguousarray(pts)
         buf.add(Observation(pts, origin.astype(np.float64), p.obstacle_range, p.raytrace_range))
 
