@@ -177,6 +177,10 @@ class Simulator:
                 ic.gyro_noise_stddev, ic.accel_noise_stddev
             st[ph.I_YAW] = normalize_angle(start.theta + self.config.imu_mount.theta)
             st[ph.I_NEXT] = 0.0
+        self._odom_period_steps = float(lim[ph.L_ODOM_P])
+        self._imu_period_steps = float(lim[ph.L_IMU_P])
+        self._normals_left = 0
+        self._battery_check_at = -math.inf
         self._refill_normals(1)
         ph.publish_odometry(st, lim, 0, self._dt, self._odom_normals)
         if ic is not None:
@@ -199,19 +203,21 @@ class Simulator:
     def step_to(self, t: float) -> None:
         """Run physics steps until the next one would pass time ``t``; publish sensors on time."""
         dt = self._dt
-        target = int(math.floor((t - self._t0) / dt + _EPS))
+        t0 = self._t0
+        target = int(math.floor((t - t0) / dt + _EPS))
         world = self.world
+        contact = self._contact
         while self._step < target:
             s = self._step
-            now = self._t0 + s * dt
+            now = t0 + s * dt
             end = target
-            if self._next_scan is not None:
-                end = min(end, self._next_scan)
+            if self._next_scan is not None and self._next_scan < end:
+                end = self._next_scan
             moving = False
             if world.dynamic or self._faults:
                 boundary = min(world.next_change(now), self._next_fault_change(now))
                 if boundary < math.inf:
-                    end = min(end, max(s + 1, _ceil_step((boundary - self._t0) / dt)))
+                    end = min(end, max(s + 1, _ceil_step((boundary - t0) / dt)))
                 moving = world.has_moving(now)
                 if moving:
                     end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
@@ -219,48 +225,80 @@ class Simulator:
             self._refill_normals(end - s)
             circles, segments = world.shapes_at(now)
             n_cmd = self._cmd_until - s
-            if self._battery_fraction() <= 0.0:
+            if now >= self._battery_check_at and self._battery_flat(now):
                 n_cmd = 0  # a flat battery: the motors stop
             ph.physics_steps(self._st, self._cmd, n_cmd, end - s, dt, self._lim, self._faultv,
                              moving, self._fp, world.blocked, world.origin_x, world.origin_y,
-                             world.resolution, circles, segments, self._contact, s,
+                             world.resolution, circles, segments, contact, s,
                              self._odom_normals, self._imu_normals)
-            if self._contact[ph.C_FIRST] >= 0.0:
-                first_t = now + (float(self._contact[ph.C_FIRST]) + 1) * dt
-                if first_t - self._last_blocked > self._bumper_hold + _EPS:
-                    c = self._contact
-                    self.contacts.append(Contact(first_t, Pose2D(float(c[ph.C_X]), float(c[ph.C_Y]),
-                                                                 float(c[ph.C_TH])),
-                                                 float(c[ph.C_SPEED])))
-                self._last_blocked = now + (float(self._contact[ph.C_LAST]) + 1) * dt
+            if contact[ph.C_FIRST] >= 0.0:
+                self._record_contact(now)
             self._step = end
-            self._publish_scan_if_due()
+            if self._next_scan is not None and end >= self._next_scan:
+                self._publish_scan_if_due()
+
+    def _record_contact(self, now: float) -> None:
+        """Log a new contact (one per push: blocked steps closer than bumper_hold merge)."""
+        c = self._contact
+        dt = self._dt
+        first_t = now + (float(c[ph.C_FIRST]) + 1) * dt
+        if first_t - self._last_blocked > self._bumper_hold + _EPS:
+            self.contacts.append(Contact(first_t, Pose2D(float(c[ph.C_X]), float(c[ph.C_Y]),
+                                                         float(c[ph.C_TH])),
+                                         float(c[ph.C_SPEED])))
+        self._last_blocked = now + (float(c[ph.C_LAST]) + 1) * dt
+
+    def _battery_flat(self, now: float) -> bool:
+        """Whether the battery is empty; if not, when to look again (it cannot run flat before
+        the remaining energy is spent at the highest possible power)."""
+        f = self._battery_fraction()
+        if f <= 0.0:
+            return True
+        idle, per_m, per_rad, capacity = self._battery[:4]
+        lim = self._lim
+        top = idle + per_m * math.hypot(lim[ph.L_MAX_X], lim[ph.L_MAX_Y]) \
+            + per_rad * lim[ph.L_MAX_TH]
+        self._battery_check_at = now + 0.999 * f * capacity / max(top, 1e-12)
+        return False
 
     def _refill_normals(self, n_steps: int) -> None:
-        """Make sure the odometry and IMU noise buffers hold enough draws for n_steps."""
-        st, lim = self._st, self._lim
-        need = 3 * (int(n_steps / lim[ph.L_ODOM_P]) + 2)
+        """Make sure the odometry and IMU noise buffers hold enough draws for n_steps. The
+        kernel's cursors are read only when a cheap upper bound on the use says it may be low."""
+        need = 3 * (int(n_steps / self._odom_period_steps) + 2)
+        if self._imu_period_steps > 0.0:
+            need = max(need, 3 * (int(n_steps / self._imu_period_steps) + 2))
+        if self._normals_left >= need:
+            self._normals_left -= need
+            return
+        st = self._st
+        n = max(need, 3072)
         c = int(st[ph.O_CUR])
-        if len(self._odom_normals) - c < need:
-            n = max(need, 3072)
-            fresh = self._rng_odom.standard_normal(n) if self._noisy_odom else np.zeros(n)
-            self._odom_normals = np.concatenate([self._odom_normals[c:], fresh])
-            st[ph.O_CUR] = 0.0
-        if lim[ph.L_IMU_P] > 0.0:
-            need = 3 * (int(n_steps / lim[ph.L_IMU_P]) + 2)
+        fresh = self._rng_odom.standard_normal(n) if self._noisy_odom else np.zeros(n)
+        self._odom_normals = np.concatenate([self._odom_normals[c:], fresh])
+        st[ph.O_CUR] = 0.0
+        left = len(self._odom_normals)
+        if self._imu_period_steps > 0.0:
             c = int(st[ph.I_CUR])
-            if len(self._imu_normals) - c < need:
-                fresh = self._rng_imu.standard_normal(max(need, 3072))
-                self._imu_normals = np.concatenate([self._imu_normals[c:], fresh])
-                st[ph.I_CUR] = 0.0
+            fresh = self._rng_imu.standard_normal(n)
+            self._imu_normals = np.concatenate([self._imu_normals[c:], fresh])
+            st[ph.I_CUR] = 0.0
+            left = min(left, len(self._imu_normals))
+        self._normals_left = left - need
 
     # ----------------------------------------------------------------- commands and faults
     def _command(self, cmd: Twist) -> None:
-        v = (cmd.vx, cmd.vy, cmd.wz)
-        if not all(isinstance(c, (int, float)) and math.isfinite(c) for c in v):
+        try:
+            vx, vy, wz = float(cmd.vx), float(cmd.vy), float(cmd.wz)
+            ok = math.isfinite(vx) and math.isfinite(vy) and math.isfinite(wz)
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
             self.rejected_commands += 1
-            v = (0.0, 0.0, 0.0)
-        self._cmd[0], self._cmd[1], self._cmd[2] = v
+            vx = vy = wz = 0.0
+        c = self._cmd
+        c[0] = vx
+        c[1] = vy
+        c[2] = wz
         self._cmd_until = self._step + self._timeout_steps
 
     def add_fault(self, fault: Fault | Mapping[str, Any]) -> Fault:
