@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from navcore.controllers import DWAPlanner, make_controller
-from navcore.controllers.critics import REJECTED, footprint_scale, score_dwa
+from navcore.controllers.critics import REJECTED, footprint_scale, grid_critic, grid_critics
 from navcore.controllers.map_grid import densify_plan, distance_grid, local_plan, plan_cells
 from navcore.controllers.oscillation import OscillationFlags
 from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, simulate,
@@ -105,6 +105,33 @@ def test_oscillation_flags_latch_and_release():
     assert f.active() == ["rot_neg_only"]
     f.update(0, 0, 0.25, 0.0, 0, -0.5, 0.1, 0.05, 0.2)        # turned 0.25 > 0.2 rad
     assert not f.any()
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.sampled_from([0.0, 0.02]), st.sampled_from([0.0, 0.03]))
+def test_fused_grid_critics_equal_the_critic_chain(seed, align, goal):
+    rng = np.random.default_rng(seed)
+    costs = np.where(rng.random((40, 40)) < 0.05, 254, 0).astype(np.uint8)
+    none = np.zeros((0, 0), dtype=np.bool_)
+    path_g = distance_grid(costs, rng.integers(0, 40, (5, 2)), none)
+    goal_g = distance_grid(costs, rng.integers(0, 40, (1, 2)), none)
+    front_g = distance_grid(costs, rng.integers(0, 40, (1, 2)), none)
+    samples = np.column_stack([rng.uniform(-0.2, 0.6, 30), np.zeros(30), rng.uniform(-1, 1, 30)])
+    steps = rng.integers(1, 60, 30)
+    pts, _, nose = simulate(samples, steps, 1.0, 1.0, rng.uniform(-3, 3), np.zeros(3),
+                            np.ones(3), 1.7, CONSTANT, 0.325)
+    w = np.array([0.01, 0.04, align, 0.03, goal, 0.0, 0.325, 0.25, 0.55, 0.2, 0.0])
+    for k in range(30):
+        n = int(steps[k])
+        chain = []
+        for scale, grid, shift, stop in ((w[1], front_g, 0.325, False), (w[2], path_g, 0.325, False),
+                                         (w[3], path_g, 0.0, True), (w[4], goal_g, 0.0, True)):
+            if scale != 0.0:
+                chain.append((scale, grid_critic(pts, k, n, grid, 0.0, 0.0, 0.05, shift, stop)))
+        neg = [c for _, c in chain if c < 0]
+        expected = neg[0] if neg else sum(s * c for s, c in chain)
+        got, _ = grid_critics(pts, nose, k, n, 0.0, 0.0, 0.05, path_g, goal_g, front_g, w, costs)
+        assert got == pytest.approx(expected)
 
 
 # --- closed-loop behaviour ----------------------------------------------------------------------

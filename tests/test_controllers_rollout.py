@@ -187,3 +187,20 @@ def test_never_raises_and_reports_why():
     holo.params.set({"y_vels": "a,b"})
     r = holo.compute_velocity(Pose2D(), Twist(), straight_path(0, 0, 1, 0))
     assert r.status == "no_valid_trajectory" and "y_vels" in r.reason
+
+
+def _mean_path_deviation(params: dict) -> float:
+    cm = Costmap2D(160, 160, 0.05, -1.0, -4.0)
+    t = np.linspace(0.0, 1.0, 121)
+    xs, ys = 6.0 * t, 1.2 * np.sin(2 * np.pi * t)
+    path = Path(np.column_stack([xs, ys, np.arctan2(np.gradient(ys), np.gradient(xs))]))
+    tr = TrajectoryPlanner(cm, RECT, dict(DIFF, **params))
+    _, _, results = drive(tr, Pose2D(0.0, 0.0, path.poses[0, 2]), Twist(), path, 120, cm,
+                          rolling=True)
+    d = np.array([np.min(np.hypot(xs - p.x, ys - p.y)) for p, _ in results])
+    return float(d.mean())
+
+
+def test_goal_distance_bias_loosens_the_hold_on_the_path():
+    assert _mean_path_deviation({"goal_distance_bias": 0.8}) < \
+        _mean_path_deviation({"goal_distance_bias": 3.0})
