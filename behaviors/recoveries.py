@@ -66,6 +66,20 @@ class Recovery(Leaf):
                 return p, cost
         return None
 
+    def start_progress_check(self, pose: Pose2D) -> None:
+        self._anchor, self._anchor_t = pose, self.clock.now()
+
+    def no_progress(self, pose: Pose2D) -> bool:
+        """True when the robot stayed within ``required_movement_radius`` for longer than
+        ``movement_time_allowance`` seconds (0 disables); a stuck robot gives up early."""
+        allowance = self.get_input("movement_time_allowance")
+        if allowance <= 0.0:
+            return False
+        if pose.distance_to(self._anchor) >= self.get_input("required_movement_radius"):
+            self.start_progress_check(pose)
+            return False
+        return self.clock.now() - self._anchor_t > allowance
+
     def stop_motion(self) -> None:
         if "cmd_vel" in self.output_ports():
             self.write("cmd_vel", Twist.zero())
@@ -351,7 +365,9 @@ class TemporaryGoal(Recovery):
     open (lowest cost) on, at most ``max_plans_per_tick`` planner calls per tick, until one has a
     plan. The controller then follows that plan. SUCCESS when it reports the goal reached (or
     the robot is within ``xy_goal_tolerance``). FAILURE: NO_FREE_POSE, COLLISION_AHEAD (the
-    controller found no valid command), TIMEOUT. ``temporary_goal`` holds the chosen pose.
+    controller found no valid command), TIMEOUT (``time_allowance`` spent, or no progress of
+    ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
+    the chosen pose.
     """
 
     INPUT_PORTS = {
@@ -365,6 +381,9 @@ class TemporaryGoal(Recovery):
         "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
         "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
         "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
+        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
+        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
+                                                   5.0),
     }
     OUTPUT_PORTS = {**_CMD, **_ERR,
                     "temporary_goal": PortInformation(Pose2D, False, "the pose chosen")}
@@ -424,6 +443,7 @@ class TemporaryGoal(Recovery):
                 self._goal, self._controller = cand, controller
                 controller.reset()
                 controller.set_plan(result.path)
+                self.start_progress_check(pose)
                 self.write("temporary_goal", cand)
                 self.say(f"temporary goal ({cand.x:.2f}, {cand.y:.2f})")
                 break
@@ -442,6 +462,10 @@ class TemporaryGoal(Recovery):
             self.stop_motion()
             self.report(BehaviorError.COLLISION_AHEAD, f"controller: {result.status}")
             return Status.FAILURE
+        if self.no_progress(pose):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
+            return Status.FAILURE
         self.write("cmd_vel", result.cmd)
         self.say(f"{pose.distance_to(self._goal):.2f} m to the temporary goal")
         return Status.RUNNING
@@ -459,7 +483,8 @@ class BackOffToPreviousPose(Recovery):
     The trail is ``pose_history`` (RecordPoseHistory). It starts at the stored pose nearest the
     robot, so repeated back-offs go further back. The robot pursues the trail in reverse (pure
     pursuit with negative speed, ``lookahead`` m), footprint-checked ahead. SUCCESS within
-    ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT.
+    ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT
+    (``time_allowance`` spent, or no progress as in TemporaryGoal).
     """
 
     INPUT_PORTS = {
@@ -472,6 +497,9 @@ class BackOffToPreviousPose(Recovery):
         "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
         "pose_history": PortInformation(list, False, "Pose2D trail, oldest first"),
+        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
+        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
+                                                   5.0),
     }
     OUTPUT_PORTS = {**_CMD, **_ERR}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "back_off_error_code",
@@ -481,6 +509,7 @@ class BackOffToPreviousPose(Recovery):
         self._start = self.clock.now()
         self._trail = self._plan_trail(self.robot.pose(), self.read("pose_history") or [])
         self._i = 0
+        self.start_progress_check(self.robot.pose())
 
     def _plan_trail(self, pose: Pose2D, history: list[Pose2D]) -> list[Pose2D]:
         """Poses from the one nearest the robot back ``distance`` metres, newest first."""
@@ -508,9 +537,10 @@ class BackOffToPreviousPose(Recovery):
             self.stop_motion()
             self.report(BehaviorError.NONE, "back at the previous pose")
             return Status.SUCCESS
-        if self.clock.now() - self._start > self.get_input("time_allowance"):
+        if self.clock.now() - self._start > self.get_input("time_allowance") \
+                or self.no_progress(pose):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, "time out")
+            self.report(BehaviorError.TIMEOUT, "time out or no progress")
             return Status.FAILURE
         # advance along the trail past points already within the look-ahead
         look = self.get_input("lookahead")

@@ -295,3 +295,18 @@ def test_reinitialize_global_localization():
     node.localizer = Loc()
     node.tick_once()
     assert node.status == S and Loc.calls == 1
+
+
+def test_temporary_goal_and_back_off_give_up_without_progress():
+    class Stuck(World):
+        def step(self, cmd):
+            self.clock.advance(self.control_period)          # held in place (contact, stall)
+
+    rig = Rig(Stuck())
+    status, n = rig.run(rig.node("TemporaryGoal", movement_time_allowance=2.0))
+    assert status == F and rig.get("temporary_goal_error_code") == BehaviorError.TIMEOUT
+    assert 40 <= n <= 43
+    rig.put("pose_history", [Pose2D(-1.0, 0.0, 0.0), Pose2D(-0.5, 0.0, 0.0), Pose2D()])
+    status, n = rig.run(rig.node("BackOffToPreviousPose", movement_time_allowance=2.0))
+    assert status == F and rig.get("back_off_error_code") == BehaviorError.TIMEOUT
+    assert 40 <= n <= 43
