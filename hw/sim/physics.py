@@ -125,22 +125,30 @@ def _inside(fp: np.ndarray, px: float, py: float) -> bool:
 
 
 @njit(cache=True)
-def footprint_hits(fp: np.ndarray, x: float, y: float, th: float, blocked: np.ndarray,
-                   ox: float, oy: float, res: float, circles: np.ndarray,
-                   segments: np.ndarray) -> bool:
-    """True when the footprint polygon at pose (x, y, th) overlaps a blocked map cell, a circle
-    or a segment. Map cells are checked along the outline only: the robot moves in sub-steps of
-    at most half a cell from a free pose, so a cell can only get inside across the outline."""
+def footprint_hits(fp: np.ndarray, rmax: float, x: float, y: float, th: float,
+                   blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
+                   circles: np.ndarray, segments: np.ndarray) -> bool:
+    """True when the footprint polygon (no vertex farther than ``rmax`` from base_link) at pose
+    (x, y, th) overlaps a blocked map cell, a circle or a segment. Map cells are checked along
+    the outline only: the robot moves in sub-steps of at most half a cell from a free pose, so a
+    cell can only get inside across the outline. The clearance field (cells from this cell's
+    centre to the nearest blocked centre) skips that check when every wall is out of reach."""
     n = fp.shape[0]
     c = math.cos(th)
     s = math.sin(th)
+    check_map = True
+    mx = int(math.floor((x - ox) / res))
+    my = int(math.floor((y - oy) / res))
+    if 0 <= mx < clear.shape[1] and 0 <= my < clear.shape[0]:
+        # the nearest blocked square is at least (clearance - sqrt 2) cells from (x, y)
+        check_map = (clear[my, mx] - 1.4143) * res <= rmax
     for i in range(n):
         j = (i + 1) % n
         ax = x + c * fp[i, 0] - s * fp[i, 1]
         ay = y + s * fp[i, 0] + c * fp[i, 1]
         bx = x + c * fp[j, 0] - s * fp[j, 1]
         by = y + s * fp[j, 0] + c * fp[j, 1]
-        if segment_blocked(blocked, ox, oy, res, ax, ay, bx, by):
+        if check_map and segment_blocked(blocked, ox, oy, res, ax, ay, bx, by):
             return True
         for k in range(circles.shape[0]):
             r = circles[k, 2]
@@ -176,7 +184,8 @@ def _approach(v: float, target: float, step: float) -> float:
 @njit(cache=True)
 def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt: float,
                   lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
-                  blocked: np.ndarray, ox: float, oy: float, res: float, circles: np.ndarray,
+                  blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
+                  circles: np.ndarray,
                   segments: np.ndarray, contact: np.ndarray, step0: int, odom_normals: np.ndarray,
                   imu_normals: np.ndarray) -> None:
     """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; ``cmd``
@@ -190,6 +199,7 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
     half = 0.5 * lim[L_SEP]
     keep = 1.0 - faults[F_SLIP]
     stuck = int(faults[F_STUCK])
+    rmax = lim[L_RMAX]
     for k in range(n_steps):
         if k < n_cmd:
             tvx = min(max(cmd[0], -lim[L_MAX_X]), lim[L_MAX_X])
@@ -229,7 +239,8 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
             h = dt / nsub
             for j in range(nsub):
                 nx, ny, nth = arc(x, y, th, avx, avy, awz, h)
-                if footprint_hits(fp, nx, ny, nth, blocked, ox, oy, res, circles, segments):
+                if footprint_hits(fp, rmax, nx, ny, nth, blocked, clear, ox, oy, res, circles,
+                                  segments):
                     hit = True
                     # bisect the blocked sub-step so that the body stops touching, not short
                     lo = 0.0
@@ -237,8 +248,8 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
                     for _ in range(10):
                         mid = 0.5 * (lo + hi)
                         mx, my, mth = arc(x, y, th, avx, avy, awz, mid)
-                        if footprint_hits(fp, mx, my, mth, blocked, ox, oy, res, circles,
-                                          segments):
+                        if footprint_hits(fp, rmax, mx, my, mth, blocked, clear, ox, oy, res,
+                                          circles, segments):
                             hi = mid
                         else:
                             lo = mid

@@ -228,7 +228,8 @@ class Simulator:
             if now >= self._battery_check_at and self._battery_flat(now):
                 n_cmd = 0  # a flat battery: the motors stop
             ph.physics_steps(self._st, self._cmd, n_cmd, end - s, dt, self._lim, self._faultv,
-                             moving, self._fp, world.blocked, world.origin_x, world.origin_y,
+                             moving, self._fp, world.blocked, world.clearance, world.origin_x,
+                             world.origin_y,
                              world.resolution, circles, segments, contact, s,
                              self._odom_normals, self._imu_normals)
             if contact[ph.C_FIRST] >= 0.0:
@@ -373,8 +374,9 @@ class Simulator:
         w = self.world
         c, s = w.shapes_at(self.time)
         st = self._st
-        return bool(ph.footprint_hits(self._fp, st[ph.X], st[ph.Y], st[ph.TH], w.blocked,
-                                      w.origin_x, w.origin_y, w.resolution, c, s))
+        return bool(ph.footprint_hits(self._fp, self._lim[ph.L_RMAX], st[ph.X], st[ph.Y],
+                                      st[ph.TH], w.blocked, w.clearance, w.origin_x, w.origin_y,
+                                      w.resolution, c, s))
 
     def bumper_pressed(self) -> bool:
         return self.time - self._last_blocked <= self._bumper_hold + _EPS
