@@ -1,12 +1,12 @@
-"""Benchmark of the simulator: simulated seconds per wall second.
+"""Benchmark of the simulator: simulated seconds per second.
 
 One diff-drive robot with a 720-beam laser (270 deg, 30 m) at 10 Hz and odometry at 50 Hz
-wanders the Willow Garage map (unknown space solid) (a synthetic office map when the shared data is absent), commanded
-at 20 Hz by a small reactive wanderer the way the executive would drive it (the wanderer's own
-time is not counted). Also reported: the
-same with the IMU at 50 Hz, and the cost of one 720-beam scan. Factors are simulated seconds per
-second of this process's CPU time (equal to wall time on an idle machine; the wall figure is
-printed too, lower whenever other jobs share the cores).
+wanders the Willow Garage map, unknown space solid (a synthetic office map when the shared data
+is absent), commanded at 20 Hz by a small reactive wanderer the way the executive would drive
+it; the wanderer's own time is not counted. Also reported: the same with the IMU at 50 Hz, and
+the cost of one 720-beam scan. Factors are simulated seconds per second of this process's CPU
+time (equal to wall time on an idle machine); the wall figure is printed too, lower whenever
+other jobs share the cores.
 
     python bench/bench_sim.py [--seconds 120] [--json]
 """
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -30,8 +30,9 @@ from navcore.maps import load_map  # noqa: E402
 from navcore.synthetic_maps import office_map  # noqa: E402
 from navcore.types import Pose2D, Twist  # noqa: E402
 
-WILLOW = Path(__file__).resolve().parent.parent.parent / "shared" / "data" / "maps" / \
-    "willow_garage" / "willow-full-0.05.yaml"
+DATA = Path(os.environ.get("NAVBT_DATA")
+            or Path(__file__).resolve().parent.parent.parent / "shared" / "data")
+WILLOW = DATA / "maps" / "willow_garage" / "willow-full-0.05.yaml"
 
 LASER = {"preset": "urg04lx", "angle_min": -2.35619449, "angle_max": 2.35619449, "beams": 720,
          "range_max": 30.0, "scan_time": 0.1, "range_noise_stddev": 0.01,
@@ -107,7 +108,7 @@ def main() -> None:
     for _ in range(reps):
         sim._publish_scan()
     scan_ms = (time.process_time() - t0) / reps * 1e3
-    travelled = sim._st[12]
+    travelled = sim.travelled
     print(f"map {name} {world.grid.width}x{world.grid.height} @ {world.resolution} m, "
           f"{args.seconds:.0f} s simulated, laser 720 beams @ 10 Hz, odometry @ 50 Hz")
     print(f"  realtime factor          {factor:8.0f} x   (goal > 500; per CPU second)")

@@ -38,8 +38,9 @@ class Fault:
 
     def __post_init__(self) -> None:
         if self.kind not in FAULT_KINDS:
-            raise FaultError(f"fault: unknown kind {self.kind!r}{suggest(str(self.kind), FAULT_KINDS)}"
-                             f"; one of {', '.join(FAULT_KINDS)}")
+            hint = suggest(str(self.kind), FAULT_KINDS)
+            raise FaultError(f"fault: unknown kind {self.kind!r}{hint}; one of "
+                             f"{', '.join(FAULT_KINDS)}")
         for k in ("start", "duration", "slip"):
             v = getattr(self, k)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):

@@ -196,6 +196,11 @@ class Simulator:
         """Simulated time of the physics state (a whole number of physics periods)."""
         return self._t0 + self._step * self._dt
 
+    @property
+    def travelled(self) -> float:
+        """Distance the wheels have driven so far (m)."""
+        return float(self._st[ph.DIST])
+
     def step(self) -> None:
         """Step up to the clock's current time."""
         self.step_to(self.clock.now())
