@@ -25,6 +25,8 @@ from executive.tree_spec import KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError
 from navcore.types import Pose2D
 
 SUBTREE = "SubTree"
+# Keys the executive (not the tree) writes.
+EXTERNAL_KEYS = frozenset({"goal", "goals", "goal_update"})
 
 
 @dataclass(frozen=True)
@@ -129,7 +131,24 @@ class Builder:
     def build(self, tree_id: str | None = None) -> py_trees.behaviour.Behaviour:
         tree_id = tree_id or self.main_tree()
         scope = Scope(prefix=self.namespace, root_ns=self.namespace)
-        return self._tree(tree_id, scope, (), None)
+        self._reads: list[tuple[NodeSpec, str, PortValue, str]] = []
+        self._writes: set[str] = set()
+        root = self._tree(tree_id, scope, (), None)
+        self._check_reads()
+        return root
+
+    def _check_reads(self) -> None:
+        """A ``{key}`` read that nothing writes and that is one letter off a key the tree does
+        write (or a well-known key) is a typo: say so before the robot moves."""
+        known = {k.rsplit("/", 1)[-1] for k in self._writes} | EXTERNAL_KEYS
+        for spec, port, pv, key in self._reads:
+            name = key.rsplit("/", 1)[-1]
+            if key in self._writes or name in known:
+                continue
+            hint = did_you_mean(name, known)
+            if hint:
+                raise spec.error(f"port '{port}' reads {pv.raw!r}, which nothing in the tree "
+                                 f"writes{hint}", pv.where)
 
     def main_tree(self) -> str:
         doc = self.doc
@@ -220,6 +239,10 @@ class Builder:
                                                    choices, from_text=isinstance(value, str))
                 else:
                     refs[port] = target
+                    if port in outputs:
+                        self._writes.add(target)
+                    else:
+                        self._reads.append((spec, port, pv, target))
                 continue
             if port in outputs:
                 raise spec.error(f"output port '{port}' needs a blackboard reference such as "
@@ -232,6 +255,8 @@ class Builder:
                     literals[port] = target.value
                 else:
                     refs[port] = target
+                    if port in outputs:
+                        self._writes.add(target)
         for port, info in inputs.items():
             if info.required and not info.has_default and port not in refs and port not in literals:
                 raise spec.error(f"missing required port '{port}' ({info.description})")

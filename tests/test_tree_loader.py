@@ -356,3 +356,28 @@ def test_docs_node_reference_is_in_step():
     start, end = "<!-- nodes:start -->\n", "<!-- nodes:end -->"
     table = text[text.index(start) + len(start):text.index(end)]
     assert table == markdown_catalogue(), "run: python -m behaviors.registry"
+
+
+def test_a_read_key_nothing_writes_is_caught_when_it_is_a_typo(tmp_path):
+    msg = error_of(tmp_path, """
+        trees:
+          T:
+            PipelineSequence:
+              children:
+                - ComputePathToPose: {goal: "{goal}", path: "{plan}"}
+                - FollowPath: {path: "{plna}"}
+        """)
+    assert msg == ("t.yaml:6: FollowPath: port 'path' reads '{plna}', which nothing in the tree "
+                   "writes (did you mean 'plan'?)")
+    msg = error_of(tmp_path, """
+        trees:
+          T:
+            GoalReached: {goal: "{gaol}"}
+        """)
+    assert "reads '{gaol}', which nothing in the tree writes (did you mean 'goal'?)" in msg
+    p = write(tmp_path, "ok.yaml", """
+        trees:
+          T:
+            Wait: {wait_duration: "{operator_pause}"}
+        """)
+    load_tree(p)                                   # an unrelated external key is fine
