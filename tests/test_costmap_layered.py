@@ -425,3 +425,28 @@ def test_bad_sensor_data_and_poses_do_not_corrupt_the_map():
     assert "not finite" in cm.last_error and not cm.is_current()
     assert np.array_equal(cm.costmap.costs, before)
     assert cm.footprint_cost(np.nan, 0.0, 0.0) == -1
+
+
+def test_a_parameter_change_reinflates_everything_at_the_next_update():
+    grid = ascii_map("""
+        ############
+        #..........#
+        #..........#
+        #..........#
+        #..........#
+        #..........#
+        ############
+    """, resolution=0.1)
+    cm = LayeredCostmap.from_params({"plugins": ["static_layer", "inflation_layer"],
+                                     "robot_radius": 0.05, "footprint_padding": 0.0,
+                                     "inflation_layer": {"inflation_radius": 0.2}},
+                                    static_map=grid)
+    cm.update_map(Pose2D(0.6, 0.35, 0.0))
+    assert _cell_cost(cm, 0.55, 0.35) == FREE_SPACE            # 3 cells from the wall cells
+    namespaces = cm.parameter_namespaces()
+    assert set(namespaces) == {"global_costmap", "global_costmap/static_layer",
+                               "global_costmap/inflation_layer"}
+    previous = namespaces["global_costmap/inflation_layer"].set({"inflation_radius": 0.5})
+    assert previous == {"inflation_radius": 0.2}
+    cm.update_map(Pose2D(0.6, 0.35, 0.0))
+    assert _cell_cost(cm, 0.55, 0.35) == compute_cost(3, 0.1, cm.inscribed_radius, 10.0) > 0

@@ -315,6 +315,7 @@ class InflationLayer:
         self._table_key: tuple | None = None
         self._scratch: list = []
         self._last: tuple[float, float, float, float] | None = None
+        self._applied: tuple | None = None  # the parameter values of the last inflation
         self.need_reinflation = True
 
     @property
@@ -358,7 +359,14 @@ class InflationLayer:
                       bounds: list[float]) -> None:
         """Grow ``bounds`` ([min_x, min_y, max_x, max_y], metres) as costmap_2d does."""
         if not self.enabled:
+            self._applied = None
             return
+        # a parameter changed (even straight through ``params.set``): inflate everything again
+        applied = (self.params.inflation_radius, self.params.cost_scaling_factor,
+                   self.params.inflate_unknown, self._inscribed, self._resolution)
+        if applied != self._applied:
+            self.need_reinflation = True
+            self._applied = applied
         if self.need_reinflation:
             self._last = (bounds[0], bounds[1], bounds[2], bounds[3])
             bounds[0] = bounds[1] = -1e30

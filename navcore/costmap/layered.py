@@ -366,6 +366,20 @@ class LayeredCostmap:
         """The same inside the square (``invert_area_to_clear``, ClearCostmapAroundRobot)."""
         self._clear(x, y, reset_distance, True, layer_names)
 
+    # ------------------------------------------------------------ parameters
+
+    def parameter_namespaces(self) -> dict[str, Parameters]:
+        """Every live Parameters object by its ROS namespace ("local_costmap",
+        "local_costmap/inflation_layer", "local_costmap/obstacle_layer/scan", ...), for the
+        executive's SetParameters. Changes take effect at the next ``update_map``."""
+        out: dict[str, Parameters] = {self.name: self.params}
+        for layer in self.layers:
+            ns = f"{self.name}/{getattr(layer, 'plugin_name', layer.name)}"
+            out[ns] = layer.params
+            for src, buf in getattr(layer, "buffers", {}).items():
+                out[f"{ns}/{src}"] = buf.params
+        return out
+
     # ------------------------------------------------------------ queries
 
     def footprint_cost(self, x: float, y: float, theta: float) -> int:
