@@ -44,10 +44,13 @@ def run(args: argparse.Namespace) -> int:
         for s in scenarios:
             print(f"{s.source}: ok ({s.name}, {len(s.goals)} goal(s))")
         return 0
+    from executive.loading import load_tree_file
     trees = args.tree or [shipped_tree("smach_recovery")]
-    for t in trees:
-        if not os.path.exists(t):
-            return fail("scenario", f"{t}: no such tree file")
+    for t in trees:  # fail fast: a broken tree is reported before any scenario runs
+        try:
+            load_tree_file(t, namespace="/scenario_check")
+        except TreeLoadError as e:
+            return fail("scenario", str(e))
     results = []
     for s in scenarios:
         for t in trees:
