@@ -3,7 +3,7 @@
 Maps: ``navcore.synthetic_maps.office_map(n)`` for n = 1000, 2000, 4000 (0.05 m cells), lethal
 where occupied, unknown where unknown, inflated as in the C++ baselines of
 ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, cost_scaling_factor
-10), start (45, 45), goal (n-45, n-45); plus the Willow Garage map between the two free cells
+10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map between the two free cells
 farthest apart along the diagonal. Each figure is the median of several full ``make_plan`` calls
 after a warm-up (numba compiled and cached). ``--json`` prints one JSON object as the last line.
 
@@ -56,6 +56,13 @@ def clock_ms(fn, repeat: int) -> float:
     return statistics.median(times)
 
 
+def nearest_free(cm: Costmap2D, mx: int, my: int) -> Pose2D:
+    """Centre of the free cell nearest to (mx, my) (the C++ corners may fall on a desk here)."""
+    free = np.argwhere(cm.costs == 0)
+    c = free[np.argmin((free[:, 0] - my) ** 2 + (free[:, 1] - mx) ** 2)]
+    return Pose2D(*cm.map_to_world(int(c[1]), int(c[0])), 0.0)
+
+
 def willow_endpoints(cm: Costmap2D) -> tuple[Pose2D, Pose2D]:
     """Free cells nearest the lower-left and upper-right corners of the map's free area."""
     free = np.argwhere(cm.costs == 0)
@@ -75,8 +82,8 @@ def main(argv: list[str] | None = None) -> int:
     for n in args.sizes:
         g = office_map(n)
         cm = costmap_from_grid(g.data, g.resolution, (g.origin.x, g.origin.y))
-        start = Pose2D(*cm.map_to_world(45, 45), 0.0)
-        goal = Pose2D(*cm.map_to_world(n - 45, n - 45), 0.0)
+        start = nearest_free(cm, 45, 45)
+        goal = nearest_free(cm, n - 45, n - 45)
         planners = {"navfn": NavFn(cm), "global_planner": GlobalPlanner(cm),
                     "global_planner_astar_grid": GlobalPlanner(cm, {"use_dijkstra": False,
                                                                     "use_grid_path": True})}

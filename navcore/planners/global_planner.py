@@ -159,7 +159,8 @@ class GlobalPlanner:
         else:
             hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
         reached, self.last_updates, _ = propagate(
-            costs, lut, float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b, ws.buf_c,
+            costs, lut, np.floor(lut), float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a,
+            ws.buf_b, ws.buf_c,
             np.array(seeds, np.int64), np.array(seed_pots, np.float32),
             np.array(pushes, np.int64), target, float(lethal), float(2 * neutral), 2 * nx * ny,
             p.use_quadratic, hkind, hscale)

@@ -89,7 +89,7 @@ class NavFn:
         k = sc[1] * nx + sc[0]
         target = gc[1] * nx + gc[0] if gc is not None else 0  # off-map goal: ROS aims at cell 0
         _, self.last_updates, _ = propagate(
-            costs, lut, float(COST_OBS), nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b,
+            costs, lut, lut, float(COST_OBS), nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b,
             ws.buf_c, np.array([k], np.int64), np.array([0.0], np.float32),
             np.array([k + 1, k - 1, k - nx, k + nx], np.int64), target, float(COST_OBS),
             float(2 * COST_NEUTRAL), 2 * nx * ny, True, 0, 0.0)

@@ -6,7 +6,7 @@ otherwise to ``overflow``; when current and next are empty the threshold rises b
 and the overflow becomes current. The update is navfn's quadratic (planar-wave) one or the plain
 ``min(4 neighbours) + cost``.
 
-Two deliberate differences from the C++ (both fix real faults, neither changes a converged value):
+Deliberate differences from the C++ (each fixes a real fault; none changes a converged value):
 
 * The buffers hold the whole map, so no push is ever dropped (ROS caps them at 10000 and silently
   loses cells on large open maps).
@@ -19,7 +19,7 @@ Two deliberate differences from the C++ (both fix real faults, neither changes a
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
 planner's cost transform), so no transformed copy of the map is made per plan. Cells whose
-``pending`` flag is 3 (the outer border) are never queued: that is navfn's border of COST_OBS and
+``pending`` flag is 4 (the outer border) are never queued: that is navfn's border of COST_OBS and
 global_planner's ``outline_map`` without writing into the shared costmap.
 """
 
@@ -54,22 +54,33 @@ _INVSQRT2 = np.float32(INVSQRT2)
 
 
 @njit(cache=True)
-def _grown(buf: np.ndarray) -> np.ndarray:
-    big = np.empty(2 * buf.shape[0], buf.dtype)
+def _grown(buf: np.ndarray, need: int) -> np.ndarray:
+    big = np.empty(max(2 * buf.shape[0], need), buf.dtype)
     big[: buf.shape[0]] = buf
     return big
 
 
+# The push rule (navfn's, plus the overflow upgrade), applied to each neighbour m (old potential
+# pm) of a cell that just got potential p, written out inline in ``propagate``. It is branch-free
+# (at the wave front the outcome is a coin flip, and mispredictions dominated the run time): m is
+# always stored at the end of both queues and only the count of the queue it belongs to advances.
+# pending is 0 idle, 1 queued in current/next, 2 queued in overflow, 4 border (never queued).
+# ``tn`` is 1 when p is below the threshold (queue in next), else 0 (overflow). A cell waiting in
+# overflow that a below-threshold cell can lower is queued in next too, so the band finishes it
+# (ROS leaves it waiting); its overflow entry becomes a harmless repeat.
+
+
 @njit(cache=True)
-def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int,
+def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: float, nx: int, ny: int,
               pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
               buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
               max_cycles: int, quadratic: bool, hkind: int, hscale: float) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
-    ``costs`` is the flat uint8 costmap, ``lut[c]`` the cell cost (>= ``block``: impassable).
-    ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 3 on the
+    ``costs`` is the flat uint8 costmap, ``lut[c]`` the cell cost (>= ``block``: impassable) and
+    ``lut_hf[c]`` the cost the update adds (global_planner truncates it to an integer).
+    ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 4 on the
     border. Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
     ``(reached, cell_updates, cycles)``.
     """
@@ -91,6 +102,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
             ncur += 1
             pending[m] = 1
     t = np.float32(threshold)
+    inc = np.float32(increment)
     blk = np.float32(block)
     unx = np.uintp(nx)
     one = np.uintp(1)
@@ -100,113 +112,89 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
     while cycle < max_cycles:
         if ncur == 0:
             break
-        for i in range(ncur):
-            pending[cur[i]] = 0
+        # every update below may store into both queues (see _queue), so keep 4 slots per
+        # update free in the overflow queue, whose repeats can outgrow the map
+        if nover + 4 * ncur + 8 > over.shape[0]:
+            over = _grown(over, nover + 4 * ncur + 8)
         for i in range(ncur):
             # unsigned indices: numba then skips its negative-index wraparound test
             n = np.uintp(cur[i])
-            c = lut[costs[n]]
-            if c >= blk:
+            # cleared here rather than in a pass before the cycle (as navfn does): a neighbour
+            # lowered by an earlier cell of this cycle is still to come and will see it
+            pending[n] = 0
+            cn = costs[n]
+            if lut[cn] >= blk:
                 continue
             updates += 1
-            hf = np.float32(math.floor(c))  # global_planner passes the cost as unsigned char
+            hf = lut_hf[cn]
             l = pot[n - one]
             r = pot[n + one]
             u = pot[n - unx]
             d = pot[n + unx]
-            tc = l if l < r else r
-            ta = u if u < d else d
+            tc = min(l, r)
+            ta0 = min(u, d)
+            ta = min(ta0, tc)
             if quadratic:
-                dc = tc - ta
-                if dc < 0.0:
-                    dc = -dc
-                    ta = tc
-                if dc >= hf:
-                    p = ta + hf
-                else:
-                    q = dc / hf
-                    p = ta + hf * (_QA * q * q + _QB * q + _QC)
+                # navfn's planar-wave update, computed without branches (both sides, then select)
+                dc = abs(tc - ta0)
+                q = dc / hf
+                pq = ta + hf * (_QA * q * q + _QB * q + _QC)
+                p = ta + hf if dc >= hf else pq
             else:
-                p = (ta if ta < tc else tc) + hf
+                p = ta + hf
             if not p < pot[n]:
                 continue
             pot[n] = p
             if hkind == HEURISTIC_NONE:
-                to_next = p < t
+                tn = np.intp(p < t)
             else:
-                to_next = p + _heuristic(n, nx, hkind, hscale, tx, ty) < t
-            # navfn's push rule, neighbours in its order: left, right, -nx, +nx (unrolled by
-            # hand: a helper taking the arrays costs refcounting in the hot loop). pending is
-            # 0 idle, 1 queued in current/next, 2 queued in overflow, 3 border (never queued).
-            # A cell waiting in overflow that a below-threshold cell can lower is queued in next
-            # as well, so the band finishes it (ROS leaves it for the next band); its overflow
-            # entry becomes a harmless repeat, the only way overflow can outgrow the map.
-            if to_next:
-                if l > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n - one
-                    cm = lut[costs[m]]
-                    if l > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
-                        pending[m] = 1
-                        nxt[nnext] = m
-                        nnext += 1
-                if r > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n + one
-                    cm = lut[costs[m]]
-                    if r > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
-                        pending[m] = 1
-                        nxt[nnext] = m
-                        nnext += 1
-                if u > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n - unx
-                    cm = lut[costs[m]]
-                    if u > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
-                        pending[m] = 1
-                        nxt[nnext] = m
-                        nnext += 1
-                if d > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n + unx
-                    cm = lut[costs[m]]
-                    if d > p + _INVSQRT2 * cm and (pending[m] & 1) == 0 and cm < blk:
-                        pending[m] = 1
-                        nxt[nnext] = m
-                        nnext += 1
-            else:
-                if l > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n - one
-                    cm = lut[costs[m]]
-                    if l > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 2
-                        if nover == over.shape[0]:
-                            over = _grown(over)
-                        over[nover] = m
-                        nover += 1
-                if r > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n + one
-                    cm = lut[costs[m]]
-                    if r > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 2
-                        if nover == over.shape[0]:
-                            over = _grown(over)
-                        over[nover] = m
-                        nover += 1
-                if u > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n - unx
-                    cm = lut[costs[m]]
-                    if u > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 2
-                        if nover == over.shape[0]:
-                            over = _grown(over)
-                        over[nover] = m
-                        nover += 1
-                if d > p:  # cheap test first: neighbours behind the wave fail here
-                    m = n + unx
-                    cm = lut[costs[m]]
-                    if d > p + _INVSQRT2 * cm and pending[m] == 0 and cm < blk:
-                        pending[m] = 2
-                        if nover == over.shape[0]:
-                            over = _grown(over)
-                        over[nover] = m
-                        nover += 1
+                tn = np.intp(p + _heuristic(n, nx, hkind, hscale, tx, ty) < t)
+            # _queue's rule, written out per neighbour (left, right, -nx, +nx): passing the
+            # arrays to a helper costs reference counting in this loop
+            m = n - one
+            cm = lut[costs[m]]
+            pq = np.intp(pending[m])
+            ok = np.intp(l > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            okn = ok & tn & np.intp((pq & 5) == 0)
+            oko = ok & (1 - tn) & np.intp(pq == 0)
+            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
+            nxt[nnext] = m
+            over[nover] = m
+            nnext += okn
+            nover += oko
+            m = n + one
+            cm = lut[costs[m]]
+            pq = np.intp(pending[m])
+            ok = np.intp(r > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            okn = ok & tn & np.intp((pq & 5) == 0)
+            oko = ok & (1 - tn) & np.intp(pq == 0)
+            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
+            nxt[nnext] = m
+            over[nover] = m
+            nnext += okn
+            nover += oko
+            m = n - unx
+            cm = lut[costs[m]]
+            pq = np.intp(pending[m])
+            ok = np.intp(u > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            okn = ok & tn & np.intp((pq & 5) == 0)
+            oko = ok & (1 - tn) & np.intp(pq == 0)
+            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
+            nxt[nnext] = m
+            over[nover] = m
+            nnext += okn
+            nover += oko
+            m = n + unx
+            cm = lut[costs[m]]
+            pq = np.intp(pending[m])
+            ok = np.intp(d > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            okn = ok & tn & np.intp((pq & 5) == 0)
+            oko = ok & (1 - tn) & np.intp(pq == 0)
+            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
+            nxt[nnext] = m
+            over[nover] = m
+            nnext += okn
+            nover += oko
         tmp = cur
         cur = nxt
         nxt = tmp
@@ -217,7 +205,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
             if pot[target] < t:
                 reached = True
                 break
-            t += np.float32(increment)
+            t += inc
             tmp = cur
             cur = over
             over = tmp
@@ -230,14 +218,14 @@ def propagate(costs: np.ndarray, lut: np.ndarray, block: float, nx: int, ny: int
 
 
 def reset_buffers(pot: np.ndarray, pending: np.ndarray, nx: int, ny: int) -> None:
-    """POT_HIGH everywhere, pending 0 inside and 3 (never queued) on the outer border."""
+    """POT_HIGH everywhere, pending 0 inside and 4 (never queued) on the outer border."""
     pot.fill(POT_HIGH)
     pending.fill(0)
     p2 = pending.reshape(ny, nx)
-    p2[0, :] = 3
-    p2[-1, :] = 3
-    p2[:, 0] = 3
-    p2[:, -1] = 3
+    p2[0, :] = 4
+    p2[-1, :] = 4
+    p2[:, 0] = 4
+    p2[:, -1] = 4
 
 
 class Workspace:
