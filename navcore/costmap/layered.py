@@ -168,7 +168,7 @@ class LayeredCostmap:
         self._match_size()
         if static_map is not None:
             self.set_static_map(static_map)
-        elif any(isinstance(l, StaticLayer) for l in layers) and not self.rolling:
+        elif any(isinstance(l, StaticLayer) for l in layers):
             raise ParameterError(f"{name}: a static layer needs a map (pass static_map)")
         self.set_footprint(footprint)
 
