@@ -381,3 +381,32 @@ def test_a_read_key_nothing_writes_is_caught_when_it_is_a_typo(tmp_path):
             Wait: {wait_duration: "{operator_pause}"}
         """)
     load_tree(p)                                   # an unrelated external key is fine
+
+
+def test_xml_include_and_subtree_remapping(tmp_path):
+    write(tmp_path, "rec.xml", """
+        <root BTCPP_format="4">
+          <BehaviorTree ID="Plan">
+            <ComputePathToPose goal="{target}" path="{out}"/>
+          </BehaviorTree>
+        </root>
+        """)
+    p = write(tmp_path, "main.xml", """
+        <root BTCPP_format="4" main_tree_to_execute="Main">
+          <include path="rec.xml"/>
+          <BehaviorTree ID="Main">
+            <Sequence>
+              <SubTree ID="Plan" name="p" target="{goal}" out="{path}"/>
+              <FollowPath path="{path}"/>
+            </Sequence>
+          </BehaviorTree>
+        </root>
+        """)
+    t = load_xml(p, namespace="/xi")
+    plan = next(n for n in t.nodes() if type(n).__name__ == "ComputePathToPose")
+    assert (plan.port_key("goal"), plan.port_key("path")) == ("/xi/goal", "/xi/path")
+    w = World()
+    t.setup(**w.components())
+    t.set("goal", Pose2D(1.0, 0.0, 0.0))
+    status, _ = run_tree(t, w)
+    assert status == Status.SUCCESS
