@@ -15,7 +15,28 @@ KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
 
 
 class TreeError(ValueError):
-    """A tree file is not acceptable. The message reads ``file:line: NodeType: what is wrong``."""
+    """A tree file is not acceptable. The message reads ``file:line: NodeType: what is wrong``.
+
+    ``file`` and ``line`` are also attributes, and ``excerpt()`` gives the offending line of the
+    file (for a CLI that shows the spot).
+    """
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message)
+        m = re.match(r"^(.*?):(\d+): ", message)
+        self.file: str | None = m.group(1) if m else None
+        self.line: int | None = int(m.group(2)) if m else None
+
+    def excerpt(self) -> str:
+        """The line of the file the error points at, or "" when it cannot be read."""
+        if self.file is None or self.line is None:
+            return ""
+        try:
+            with open(self.file, encoding="utf-8") as f:
+                lines = f.read().splitlines()
+        except OSError:
+            return ""
+        return lines[self.line - 1] if 0 < self.line <= len(lines) else ""
 
 
 def did_you_mean(name: str, known: Iterable[str]) -> str:

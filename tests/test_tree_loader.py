@@ -410,3 +410,11 @@ def test_xml_include_and_subtree_remapping(tmp_path):
     t.set("goal", Pose2D(1.0, 0.0, 0.0))
     status, _ = run_tree(t, w)
     assert status == Status.SUCCESS
+
+
+def test_tree_error_knows_file_line_and_excerpt(tmp_path):
+    p = write(tmp_path, "t.yaml", "trees:\n  T:\n    Spin: {spin_dits: 1.0}\n")
+    with pytest.raises(TreeError) as e:
+        load_tree(p)
+    assert e.value.file == str(p) and e.value.line == 3
+    assert e.value.excerpt() == "    Spin: {spin_dits: 1.0}"
