@@ -73,9 +73,9 @@ def test_corruption_outside_digits_is_rejected(left: int, right: int, data: st.D
     b = data.draw(st.integers(0, 255).filter(lambda x: x != raw[i]))
     if chr(raw[i]).isdigit() and chr(b).isdigit():
         return
-    if raw[i] == ord("-") and (chr(b).isdigit() or b == 0x0A) or \
+    if raw[i] == ord("-") and (chr(b).isdigit() or b in (0x0A, 0x0D)) or \
             chr(raw[i]).isdigit() and b == ord("-"):
-        return      # sign flip or loss (a leading LF is line framing): a digit-like change
+        return      # sign flip or loss (a CR or LF there is line framing): a digit-like change
     if raw[i] == 0x0A or (i == len(raw) - 2 and b == 0x0A):
         return                                  # the LF after CR is not part of the reply
     dec = ac.LineDecoder(b"\r")
