@@ -360,3 +360,23 @@ class WouldAControllerRecoveryHelp(_WouldRecoveryHelp):
                                                 CONTROLLER_RECOVERABLE),
     }
     DEFAULT_KEYS = {"error_code": "follow_path_error_code"}
+
+
+class AlwaysSuccess(Leaf):
+    """SUCCESS, every tick (BT.CPP built-in)."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def update(self) -> Status:
+        return Status.SUCCESS
+
+
+class AlwaysFailure(Leaf):
+    """FAILURE, every tick (BT.CPP built-in)."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def update(self) -> Status:
+        return Status.FAILURE

@@ -111,6 +111,21 @@ class Repeat(DecoratorNode):
         yield from self._finish(status)
 
 
+class KeepRunningUntilFailure(DecoratorNode):
+    """RUNNING while the child succeeds (it runs again next tick); FAILURE when it fails."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick(self) -> Iterator[Behaviour]:
+        yield from self.decorated.tick()
+        status = self.decorated.status
+        if status == Status.SUCCESS:
+            self.decorated.stop(Status.INVALID)
+            status = Status.RUNNING
+        yield from self._finish(status)
+
+
 class _Timed(DecoratorNode):
     """A decorator that needs the clock."""
 

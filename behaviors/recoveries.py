@@ -197,6 +197,10 @@ class ReinitializeGlobalLocalization(Recovery):
         return Status.SUCCESS
 
 
+class GlobalLocalization(ReinitializeGlobalLocalization):
+    """navbt's plain name for ReinitializeGlobalLocalization (same node, same semantics)."""
+
+
 class Spin(Recovery):
     """Turn in place by ``spin_dist`` radians (sign = direction), then stop (rotate_recovery).
 

@@ -213,3 +213,13 @@ def test_set_parameters_not_required_runs_the_child_unchanged():
     node.tick_once()
     assert node.status == S and child.ticked == 1
     assert "no parameter namespace 'TrajectoryPlannerROS'" in node.feedback_message
+
+
+def test_keep_running_until_failure_and_always_nodes():
+    node = build("KeepRunningUntilFailure", Counter("c", [S, S, F], F))
+    assert run(node, 3) == [R, R, F]
+    ok = make("AlwaysSuccess", namespace="/al")
+    no = make("AlwaysFailure", namespace="/al")
+    ok.tick_once()
+    no.tick_once()
+    assert (ok.status, no.status) == (S, F)
