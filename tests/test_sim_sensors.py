@@ -310,3 +310,14 @@ def test_stuck_wheel_pivots_about_it():
     assert math.hypot(p.x - 0.0, p.y - 0.2) == pytest.approx(0.2, abs=1e-9)  # circle about it
     o = sim.base.odometry().pose
     assert (o.x, o.y, o.theta) == pytest.approx((p.x, p.y, p.theta), abs=1e-9)
+
+
+def test_constant_wheel_slip_makes_odometry_over_read():
+    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    sim, clock = make(world, dict(QUIET, wheel_slip=0.1, laser={"enabled": False}))
+    for _ in range(40):
+        sim.base.send(Twist(0.5, 0, 0))
+        clock.advance(0.05)
+        sim.step()
+    assert sim.true_pose().x == pytest.approx(0.9 * sim.base.odometry().pose.x, rel=1e-9)
+    assert sim.travelled == pytest.approx(sim.base.odometry().pose.x, rel=1e-9)
