@@ -56,14 +56,14 @@ class NavNode(PortsMixin):
         super().__init__(name=name or type(self).__name__, **kwargs)
         self._literals: dict[str, Any] = {}
         self.namespace = "/"
-        self._setup_done = False
 
     # ---------------------------------------------------------------- wiring
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
              literals: dict[str, Any] | None = None) -> None:
         """Connect the ports: ``refs`` port -> absolute key, ``literals`` port -> constant.
 
-        Ports in neither use ``DEFAULT_KEYS`` (resolved inside ``namespace``) or a private key.
+        Ports in neither use ``DEFAULT_KEYS`` (resolved inside ``namespace``), else their declared
+        default as a constant, else a private key that nothing writes.
         """
         refs = dict(refs or {})
         literals = dict(literals or {})
