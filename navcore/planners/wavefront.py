@@ -109,6 +109,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
     updates = 0
     cycle = 0
     reached = False
+    from_over = False
     while cycle < max_cycles:
         if ncur == 0:
             break
@@ -116,12 +117,18 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
         # update free in the overflow queue, whose repeats can outgrow the map
         if nover + 4 * ncur + 8 > over.shape[0]:
             over = _grown(over, nover + 4 * ncur + 8)
+        if from_over:
+            # a former overflow queue may hold a cell twice: clear all flags first, as navfn does
+            for i in range(ncur):
+                pending[cur[i]] = 0
         for i in range(ncur):
             # unsigned indices: numba then skips its negative-index wraparound test
             n = np.uintp(cur[i])
-            # cleared here rather than in a pass before the cycle (as navfn does): a neighbour
-            # lowered by an earlier cell of this cycle is still to come and will see it
-            pending[n] = 0
+            if not from_over:
+                # a queue filled as ``next`` holds each cell once, so its flag can be cleared
+                # as the cell comes up: a cell lowered earlier in this cycle that is still to come
+                # is then not queued a second time
+                pending[n] = 0
             cn = costs[n]
             if lut[cn] >= blk:
                 continue
@@ -200,6 +207,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
         nxt = tmp
         ncur = nnext
         nnext = 0
+        from_over = False
         if ncur == 0:
             # band below t is exhausted: every cell under t is final
             if pot[target] < t:
@@ -211,6 +219,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             over = tmp
             ncur = nover
             nover = 0
+            from_over = True
         cycle += 1
     if not reached and pot[target] < POT_HIGH:
         reached = True
