@@ -175,3 +175,21 @@ def test_unplug_and_replug(clean_registry) -> None:
         link.replug()
         assert wait_until(lambda: d.connects == 2, 3.0), d.last_error
         assert e.targets == (0, 0) and e.pid == (20, 12, 0, 50)
+
+
+def test_slow_replies_and_plausibility_gate(clean_registry) -> None:
+    clock = WallClock()
+    e = ArduinoBridgeEmulator(clock)
+    link = emu.plug("ard-s", e)
+    with ArduinoBaseDriver("sim://arduino?id=ard-s&delay=0.06", clock,
+                           {"base_controller_rate": 10.0}) as d:
+        assert d.wait_connected(3.0), d.last_error
+        drive(d, Twist(0.1, 0.0, 0.0), 0.5)
+        assert e.targets == d.geometry.wheel_targets(0.1, 0.0) and d.delivered > 2
+        x = d.odometry().pose.x
+        link.faults.delay = 0.0
+        e._enc[0] += 10**6                     # a count no wheel can make in one poll
+        assert wait_until(lambda: "exceeds" in d.last_error, 2.0)
+        n = d.delivered
+        assert wait_until(lambda: d.delivered > n + 2, 2.0)    # re-referenced after 3 refusals
+        assert d.odometry().pose.x < x + 0.2   # the jump never reached the odometry

@@ -3,7 +3,8 @@
 A polled protocol: at ``base_controller_rate`` the driver asks for the encoders (``e``) and writes
 the wheel targets (``m``). One request is in flight at a time, so each reply is checked against
 the shape its request expects (there is no echo or checksum); a mismatch clears the line.
-Encoder steps larger than the wheels can make are refused. The watchdog writes ``m 0 0`` once no
+Encoder steps larger than the wheels can make are refused (three in a row: the counts really
+jumped, e.g. a firmware reset, and become the new reference). The watchdog writes ``m 0 0`` once no
 ``send`` came for ``base_controller_timeout``.
 """
 
@@ -63,6 +64,7 @@ class ArduinoBaseDriver(SerialDriver):
         self._next_poll = -np.inf
         self._enc: tuple[int, int] | None = None
         self._enc_stamp = 0.0
+        self._refused_in_row = 0
         self._pose = Pose2D()
         self._odom: Odometry | None = None
 
@@ -168,12 +170,15 @@ class ArduinoBaseDriver(SerialDriver):
         now = self.clock.now()
         last, dt = self._enc, now - self._enc_stamp
         g = self.geometry
+        if last is not None and self._refused_in_row >= 3:
+            last = None           # the counts really moved (a firmware reset): new reference
         if last is not None:
             dl = (enc[0] - last[0]) / g.ticks_per_meter
             dr = (enc[1] - last[1]) / g.ticks_per_meter
             limit = self.params.max_wheel_speed * max(dt, 1.0 / self.params.base_controller_rate) \
                 * 2.0 + 0.01
             if abs(dl) > limit or abs(dr) > limit:
+                self._refused_in_row += 1
                 raise ac.ArduinoError(f"encoder step {dl:.3f}/{dr:.3f} m exceeds {limit:.3f} m")
             ds, dth = (dl + dr) / 2.0, (dr - dl) / g.wheel_track
             mid = self._pose.theta + dth / 2.0
@@ -183,6 +188,6 @@ class ArduinoBaseDriver(SerialDriver):
             twist = Twist(ds / dt, 0.0, dth / dt) if dt > 0 else Twist()
             with self._lock:
                 self._odom = Odometry(now, self._pose, twist)
-        self._enc, self._enc_stamp = enc, now
+        self._enc, self._enc_stamp, self._refused_in_row = enc, now, 0
         self.delivered += 1
         self.mark_valid()
