@@ -355,8 +355,8 @@ class Simulator:
     # ----------------------------------------------------------------- ground truth
     def true_pose(self) -> Pose2D:
         """Ground-truth pose of base_link in ``map``."""
-        st = self._st
-        return Pose2D(float(st[ph.X]), float(st[ph.Y]), float(st[ph.TH]))
+        x, y, th = self._st[:3].tolist()
+        return Pose2D(x, y, th)
 
     def true_velocity(self) -> Twist:
         """The body's actual velocity (what the world saw, not what the wheels claim)."""
@@ -400,24 +400,25 @@ class Simulator:
     def _odometry(self) -> Odometry:
         """The newest odometry message, built on first read after each publication."""
         st = self._st
-        stamp = self._t0 + float(st[ph.O_STAMP]) * self._dt
+        stamp = self._t0 + st[ph.O_STAMP] * self._dt
         msg = self._odom_msg
         if msg is not None and msg.stamp == stamp:
             return msg
-        twist = Twist(float(st[ph.OTX]), float(st[ph.OTY]), float(st[ph.OTW]))
+        v = st.tolist()  # one conversion instead of one per field
+        vx, vy, wz = v[ph.OTX], v[ph.OTY], v[ph.OTW]
         a1, a2, a3, a4, a5 = self._alphas
-        period = self._lim[ph.L_ODOM_P] * self._dt
-        t2 = (twist.vx ** 2 + twist.vy ** 2) * period * period
-        r2 = (twist.wz * period) ** 2
+        period = self._odom_period_steps * self._dt
+        t2 = (vx * vx + vy * vy) * period * period
+        r2 = (wz * period) ** 2
         scale = 1.0 / (period * period)
         var_s = (a4 * r2 + a5 * t2) * scale if self._omni else 0.0
         tc = np.zeros((3, 3))
         tc[0, 0] = (a3 * t2 + a4 * r2) * scale + 1e-9
         tc[1, 1] = var_s + 1e-9
         tc[2, 2] = (a1 * r2 + a2 * t2) * scale + 1e-9
-        self._odom_msg = Odometry(
-            stamp, Pose2D(float(st[ph.NOX]), float(st[ph.NOY]), float(st[ph.NOTH])), twist,
-            pose_covariance=_ODOM_POSE_COV, twist_covariance=tc)
+        self._odom_msg = Odometry(float(stamp), Pose2D(v[ph.NOX], v[ph.NOY], v[ph.NOTH]),
+                                  Twist(vx, vy, wz), pose_covariance=_ODOM_POSE_COV,
+                                  twist_covariance=tc)
         return self._odom_msg
 
     def _imu(self) -> Imu | None:
@@ -442,7 +443,10 @@ class Simulator:
 
     def laser_pose(self) -> Pose2D:
         """True pose of the laser frame in ``map``."""
-        return self.true_pose().compose(self.config.laser.mount)
+        x, y, th = self._st[:3].tolist()
+        m = self.config.laser.mount
+        c, s = math.cos(th), math.sin(th)
+        return Pose2D(x + c * m.x - s * m.y, y + s * m.x + c * m.y, normalize_angle(th + m.theta))
 
     def _publish_scan(self) -> None:
         lc = self.config.laser
