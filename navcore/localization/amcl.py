@@ -22,7 +22,8 @@ import numpy as np
 from navcore.localization.amcl_params import AMCL_PARAMS
 from navcore.localization.clusters import cluster_stats
 from navcore.localization.distance_field import distance_field
-from navcore.localization.laser_models import likelihood_field, likelihood_field_prob
+from navcore.localization.laser_models import (hit_table, likelihood_field,
+                                                likelihood_field_prob)
 from navcore.localization.motion_models import MODEL_CODES, sample_motion
 from navcore.localization.resampling import kld_resample
 from navcore.maps import FREE, OccupancyGrid
@@ -79,7 +80,8 @@ class Amcl:
         self._free = free
         self._dist_for = -1.0
         self._dist = np.zeros((1, 1), np.float32)
-        self._blocked: np.ndarray | None = None
+        self._clear: np.ndarray | None = None  # beam model ray-casting grid, built on demand
+        self._table_for: tuple = ()
         self._ensure_distance_field()
 
     def _ensure_distance_field(self) -> None:
@@ -211,17 +213,26 @@ class Amcl:
         model = p.laser_model_type
         if model == "beam":
             from navcore.localization.beam_model import beam_model  # only compiled when used
-            if self._blocked is None:
-                self._blocked = np.ascontiguousarray(self.grid.data != FREE).view(np.uint8)
-            total = beam_model(self.particles, self.weights, ranges, bearings, m, self._blocked,
+            if self._clear is None:
+                from navcore.raycast import clearance_field
+                self._clear = clearance_field(
+                    np.ascontiguousarray(self.grid.data != FREE).view(np.uint8))
+            total = beam_model(self.particles, self.weights, ranges, bearings, m, self._clear,
                                self._geom, p.laser_z_hit, p.laser_z_short, p.laser_z_max,
                                p.laser_z_rand, p.laser_sigma_hit, p.laser_lambda_short, rmax)
         else:
             self._ensure_distance_field()
             if model == "likelihood_field":
+                key = (p.laser_z_hit, p.laser_z_rand, p.laser_sigma_hit, rmax, self._dist_for)
+                if key != self._table_for:
+                    self._table = hit_table(self._dist, p.laser_z_hit, p.laser_z_rand,
+                                            p.laser_sigma_hit, rmax)
+                    self._table_for = key
+                d = self._dist_for
+                off_map = p.laser_z_hit * math.exp(-d * d / (2 * p.laser_sigma_hit ** 2)) + \
+                    p.laser_z_rand / rmax
                 total = likelihood_field(self.particles, self.weights, ranges, bearings, m,
-                                         self._dist, self._geom, self._dist_for, p.laser_z_hit,
-                                         p.laser_z_rand, p.laser_sigma_hit, rmax)
+                                         self._table, self._geom, off_map, rmax)
             else:
                 total = likelihood_field_prob(
                     self.particles, self.weights, ranges, bearings, m, self._dist, self._geom,

@@ -12,18 +12,18 @@ import math
 import numpy as np
 from numba import njit
 
-from navcore.raycast import cast_ray
+from navcore.raycast import cast_ray_clear
 
 
 @njit(cache=True)
 def beam_model(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
-               bearings: np.ndarray, mount: np.ndarray, blocked: np.ndarray, grid: np.ndarray,
+               bearings: np.ndarray, mount: np.ndarray, clear: np.ndarray, grid: np.ndarray,
                z_hit: float, z_short: float, z_max: float, z_rand: float, sigma_hit: float,
                lambda_short: float, range_max: float) -> float:
     """Multiply ``weights`` by the beam-model likelihood; return the new total.
 
-    ``blocked`` is uint8 (height, width), nonzero for occupied or unknown cells; ``grid`` is
-    (origin x, origin y, cos yaw, sin yaw, resolution) of the map.
+    ``clear`` is ``navcore.raycast.clearance_field`` of the grid whose occupied *and unknown*
+    cells block (it lets rays leap through free space); ``grid`` is (origin x, origin y, cos yaw, sin yaw, resolution) of the map.
     """
     n = particles.shape[0]
     nb = ranges.shape[0]
@@ -46,7 +46,7 @@ def beam_model(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
                 continue
             if obs > range_max:
                 obs = range_max
-            mr = cast_ray(blocked, 0.0, 0.0, res, lx, ly, lt + bearings[j], range_max)
+            mr = cast_ray_clear(clear, 0.0, 0.0, res, lx, ly, lt + bearings[j], range_max)
             z = obs - mr
             pz = z_hit * math.exp(-(z * z) / (2.0 * sigma_hit * sigma_hit))
             if z < 0.0:

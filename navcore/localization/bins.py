@@ -44,8 +44,12 @@ def new_table(capacity: int) -> np.ndarray:
 
 @njit(cache=True, inline="always")
 def _slot0(key: int, mask: int) -> int:
-    h = (key * 0x9E3779B97F4A7C15) & 0x7FFFFFFFFFFFFFFF
-    return (h >> 17) & mask
+    """First probe slot: splitmix64's finaliser, so that every bit of the key moves the slot."""
+    h = np.uint64(key)
+    h = (h ^ (h >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    h = (h ^ (h >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    h = h ^ (h >> np.uint64(31))
+    return np.int64(h & np.uint64(mask))
 
 
 @njit(cache=True)

@@ -46,10 +46,11 @@ def cluster_stats(particles: np.ndarray, weights: np.ndarray
         slot[i] = slot_bin[s]
     parent = np.arange(nb)
     for b in range(nb):
-        for dx in range(-1, 2):
+        # adjacency is symmetric: visiting the 13 "forward" neighbours of every bin is enough
+        for dx in range(0, 2):
             for dy in range(-1, 2):
                 for dt in range(-1, 2):
-                    if dx == 0 and dy == 0 and dt == 0:
+                    if dx == 0 and (dy < 0 or (dy == 0 and dt <= 0)):
                         continue
                     t = (bins[b, 2] + dt) % N_TH
                     s = find(table, bin_key(bins[b, 0] + dx, bins[b, 1] + dy, t))

@@ -32,38 +32,70 @@ def _cell(wx: float, wy: float, grid: np.ndarray, h: int, w: int) -> tuple[int, 
 
 
 @njit(cache=True)
-def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
-                     bearings: np.ndarray, mount: np.ndarray, dist: np.ndarray,
-                     grid: np.ndarray, max_occ_dist: float, z_hit: float, z_rand: float,
-                     sigma_hit: float, range_max: float) -> float:
-    """amcl ``LikelihoodFieldModel``: p = 1 + sum(pz^3), pz = z_hit exp(-d^2/2s^2) + z_rand/rmax.
-
-    Beams at or beyond range_max (and NaN) carry no information and are skipped.
-    """
+def hit_table(dist: np.ndarray, z_hit: float, z_rand: float, sigma_hit: float,
+              range_max: float) -> np.ndarray:
+    """Per-cell pz = z_hit exp(-d^2 / 2 sigma^2) + z_rand / range_max (float32), so that the
+    per-beam work is one lookup instead of an exp."""
     h, w = dist.shape
+    out = np.empty((h, w), np.float32)
+    denom = 2.0 * sigma_hit * sigma_hit
+    rnd = z_rand / range_max
+    for y in range(h):
+        for x in range(w):
+            d = dist[y, x]
+            out[y, x] = z_hit * math.exp(-(d * d) / denom) + rnd
+    return out
+
+
+@njit(cache=True)
+def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
+                     bearings: np.ndarray, mount: np.ndarray, table: np.ndarray,
+                     grid: np.ndarray, off_map_pz: float, range_max: float) -> float:
+    """amcl ``LikelihoodFieldModel``: p = 1 + sum(pz^3) per particle, weights *= p.
+
+    ``table`` is ``hit_table(dist, ...)``; an end point off the map scores ``off_map_pz`` (the
+    table value at max_occ_dist). Beams at or beyond range_max (and NaN) carry no information
+    and are skipped.
+    """
+    h, w = table.shape
     n = particles.shape[0]
-    nb = ranges.shape[0]
-    z_hit_denom = 2.0 * sigma_hit * sigma_hit
-    z_rand_mult = z_rand / range_max
+    # keep only informative beams; precompute their directions in the laser frame
+    nb = 0
+    for j in range(ranges.shape[0]):
+        if ranges[j] < range_max:
+            nb += 1
+    rx = np.empty(nb)
+    ry = np.empty(nb)
+    k = 0
+    for j in range(ranges.shape[0]):
+        r = ranges[j]
+        if r < range_max:
+            a = mount[2] + bearings[j]
+            rx[k] = r * math.cos(a)
+            ry[k] = r * math.sin(a)
+            k += 1
+    ox, oy, gc, gs = grid[0], grid[1], grid[2], grid[3]
+    inv_res = 1.0 / grid[4]
     total = 0.0
     for i in range(n):
-        px = particles[i, 0]
-        py = particles[i, 1]
         pt = particles[i, 2]
+        # rotation of the laser frame into the map's grid frame, folded into one 2x2
         c = math.cos(pt)
         s = math.sin(pt)
-        lx = px + c * mount[0] - s * mount[1]
-        ly = py + s * mount[0] + c * mount[1]
-        lt = pt + mount[2]
+        dx = particles[i, 0] + c * mount[0] - s * mount[1] - ox
+        dy = particles[i, 1] + s * mount[0] + c * mount[1] - oy
+        lx0 = (gc * dx + gs * dy) * inv_res
+        ly0 = (-gs * dx + gc * dy) * inv_res
+        cc = (gc * c + gs * s) * inv_res  # cos(pt - origin yaw) / res
+        ss = (gc * s - gs * c) * inv_res  # sin(pt - origin yaw) / res
         p = 1.0
         for j in range(nb):
-            r = ranges[j]
-            if not (r < range_max):
-                continue
-            a = lt + bearings[j]
-            mx, my = _cell(lx + r * math.cos(a), ly + r * math.sin(a), grid, h, w)
-            z = max_occ_dist if mx < 0 else dist[my, mx]
-            pz = z_hit * math.exp(-(z * z) / z_hit_denom) + z_rand_mult
+            gx = lx0 + cc * rx[j] - ss * ry[j]
+            gy = ly0 + ss * rx[j] + cc * ry[j]
+            if gx >= 0.0 and gy >= 0.0 and gx < w and gy < h:
+                pz = table[int(gy), int(gx)]
+            else:
+                pz = off_map_pz
             p += pz * pz * pz
         weights[i] *= p
         total += weights[i]
