@@ -166,6 +166,7 @@ class Simulator:
             self._scan_period = (1.0 / lc.rate) / self._dt
             self._beams = np.ascontiguousarray(lc.angles)
             self._no_return = math.inf if lc.no_return_inf else lc.range_max
+            self._laser_seeds: list[int] = []
         # imu
         ic = self.config.imu
         self._imu_msg: Imu | None = None
@@ -446,7 +447,14 @@ class Simulator:
         x, y, th = self._st[:3].tolist()
         m = self.config.laser.mount
         c, s = math.cos(th), math.sin(th)
-        return Pose2D(x + c * m.x - s * m.y, y + s * m.x + c * m.y, normalize_angle(th + m.theta))
+        return Pose2D(x + c * m.x - s * m.y, y + s * m.x + c * m.y,
+                      normalize_angle(th + m.theta))
+
+    def _next_laser_seed(self) -> int:
+        """The next per-scan noise seed, drawn from the laser's stream 256 at a time."""
+        if not self._laser_seeds:
+            self._laser_seeds = self._rng_laser.integers(0, 2 ** 32, 256).tolist()[::-1]
+        return self._laser_seeds.pop()
 
     def _publish_scan(self) -> None:
         lc = self.config.laser
@@ -458,7 +466,7 @@ class Simulator:
             ranges = self._scan_msg.ranges.copy()
         else:
             p = self.laser_pose()
-            seed = int(self._rng_laser.integers(0, 2 ** 32)) if lc.range_noise_stddev > 0 else 0
+            seed = self._next_laser_seed() if lc.range_noise_stddev > 0 else 0
             ranges = np.empty(len(self._beams), np.float32)
             w = self.world
             circles, segments = w.shapes_at(now)
