@@ -72,3 +72,25 @@ def test_parameter_error_type_is_kept_in_the_chain() -> None:
         open_devices({"laser": {"url": "urg04lx://sim", "params": {"skip": 12}}}, WallClock())
     assert "above its maximum" in str(info.value)
     assert issubclass(ParameterError, ValueError)
+
+
+def test_devices_over_tcp(clean_registry) -> None:
+    from hw.emulators.kobuki import KobukiEmulator
+    from hw.emulators.tcp_port import TcpDevice
+    clock = WallClock()
+    e = KobukiEmulator(clock)
+    link = emu.Link(e)
+    with TcpDevice(link) as srv:
+        devs = open_devices({"base": f"kobuki://{srv.url}"}, clock)
+        try:
+            base = devs["base"]
+            assert base.wait_connected(3.0), base.last_error
+            base.send(Twist(0.2, 0.0, 0.0))
+            assert wait_until(lambda: e.speed == 200, 2.0)
+            link.unplug()
+            assert wait_until(lambda: not base.connected, 2.0)
+            link.replug()
+            assert wait_until(lambda: base.connects == 2, 3.0), base.last_error
+        finally:
+            close_devices(devs)
+    assert [t.name for t in threading.enumerate() if t.name == "tcp-device"] == []
