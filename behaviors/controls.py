@@ -349,8 +349,8 @@ class RoundRobin(Control):
         if new_status == Status.INVALID and self.status == Status.RUNNING:
             self._index, self._failed = 0, 0
 
-    def reset(self) -> None:
-        """Start again at the first child (a new goal)."""
+    def new_run(self) -> None:
+        """Start again at the first child: the tree is interrupted for a new goal."""
         self._index, self._failed = 0, 0
 
 

@@ -88,6 +88,10 @@ class LoadedTree:
         """``tree.setup(**components)``: the keys of behaviors/components.py."""
         self.tree.setup(**components)
 
+    def restart(self) -> None:
+        """Halt everything and forget per-navigation memory: call before a new goal."""
+        self.tree.interrupt()
+
     def tick(self) -> Twist:
         """Tick once and return the ``cmd_vel`` written during this tick (zero if none)."""
         storage = py_trees.blackboard.Blackboard.storage
@@ -139,6 +143,17 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
         if post_tick_handler is not None:
             post_tick_handler(self)
         self.count += 1
+
+    def interrupt(self) -> None:
+        """Halt the whole tree (py_trees' own ``interrupt`` only stops ``tick_tock``) and forget
+        per-navigation memory (recovery list positions), as Nav2 does when a navigation ends:
+        the next tick starts afresh."""
+        super().interrupt()
+        self.root.stop(Status.INVALID)
+        for node in self.root.iterate():
+            new_run = getattr(node, "new_run", None)
+            if callable(new_run):
+                new_run()
 
 
 def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool) -> LoadedTree:

@@ -233,3 +233,18 @@ def test_goal_changes_while_driving(name):
     assert clears(w.local_costmap) == clears(w.global_costmap) == 0
     if name == "move_base":
         assert w.planner.calls == 2                  # once per goal (planner_frequency 0)
+
+
+def test_interrupt_for_a_new_goal_restarts_the_recovery_list():
+    w = World(planner=ScriptedPlanner(fail_calls=[1, 2, 3]))
+    tree, runs = start("nav2", w)
+    status, _ = run_tree(tree, w)
+    assert status == S and w.local_costmap.resets == 1   # one global recovery: clearing
+    rr = next(n for n in tree.nodes() if n.name == "RecoveryActions")
+    assert rr._index == 1                                  # next time: Spin
+    tree.restart()
+    assert rr._index == 0 and tree.status == Status.INVALID
+    w.planner.fail_calls = {w.planner.calls + 1, w.planner.calls + 2}
+    tree.set("goal", Pose2D(0.0, 0.0, 0.0))
+    status, _ = run_tree(tree, w)
+    assert status == S and w.local_costmap.resets == 2 and runs.done["Spin"] == 0
