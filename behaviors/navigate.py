@@ -7,7 +7,7 @@ from typing import Any, Iterator
 import py_trees
 
 from behaviors.actions import ComputePathToPose, FollowPath
-from behaviors.base import Control, PortInformation, Status, namespaced
+from behaviors.base import Control, PortInformation, namespaced
 from behaviors.controls import PipelineSequence
 from behaviors.decorators import RateController
 from navcore.types import Pose2D
