@@ -46,57 +46,54 @@ def test_bad_footprints_are_clear_errors(bad):
         make_footprint(bad)
 
 
-def _line(x0, y0, x1, y1):
-    """The cells of base_local_planner's LineIterator, ends included."""
-    dx, dy = abs(x1 - x0), abs(y1 - y0)
-    sx, sy = (1 if x1 >= x0 else -1), (1 if y1 >= y0 else -1)
-    major, minor = (dx, dy) if dx >= dy else (dy, dx)
-    num = major // 2
-    cells = []
-    x, y = x0, y0
-    for _ in range(major + 1):
-        cells.append((x, y))
-        num += minor
-        step_minor = num >= major
-        if step_minor:
-            num -= major
-        if dx >= dy:
-            x += sx
-            y += sy if step_minor else 0
-        else:
-            y += sy
-            x += sx if step_minor else 0
-    assert cells[-1] == (x1, y1)
-    return cells
-
-
-def _inside(px, py, poly):
-    """Even-odd point-in-polygon test for arrays of points."""
-    inside = np.zeros(px.shape, bool)
+def _clip(poly, inside, cut):
+    """One Sutherland-Hodgman step: keep the part of ``poly`` where ``inside`` holds."""
+    out = []
     for i in range(len(poly)):
-        ax, ay = poly[i - 1]
-        bx, by = poly[i]
-        spans = ((ay <= py) & (py < by)) | ((by <= py) & (py < ay))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xc = ax + (py - ay) * (bx - ax) / (by - ay)
-        inside ^= spans & (xc > px)
-    return inside
+        p, q = poly[i - 1], poly[i]
+        if inside(q):
+            if not inside(p):
+                out.append(cut(p, q))
+            out.append(q)
+        elif inside(p):
+            out.append(cut(p, q))
+    return out
+
+
+def _meets_square(poly, x0, y0, x1, y1):
+    """Whether a polygon meets the closed rectangle: clip it to the rectangle, see if anything
+    is left."""
+    def at_x(p, q, x):
+        t = (x - p[0]) / (q[0] - p[0])
+        return (x, p[1] + t * (q[1] - p[1]))
+
+    def at_y(p, q, y):
+        t = (y - p[1]) / (q[1] - p[1])
+        return (p[0] + t * (q[0] - p[0]), y)
+    poly = [tuple(p) for p in poly]
+    for inside, cut in ((lambda p: p[0] >= x0, lambda p, q: at_x(p, q, x0)),
+                        (lambda p: p[0] <= x1, lambda p, q: at_x(p, q, x1)),
+                        (lambda p: p[1] >= y0, lambda p, q: at_y(p, q, y0)),
+                        (lambda p: p[1] <= y1, lambda p, q: at_y(p, q, y1))):
+        poly = _clip(poly, inside, cut)
+        if not poly:
+            return False
+    return True
 
 
 def _brute_force(costs, ox, oy, res, fp, x, y, th):
+    """Max cost over every cell the placed polygon overlaps (no code shared with the kernel)."""
     poly = transform_footprint(fp, x, y, th)
-    cells = [(math.floor((px - ox) / res), math.floor((py - oy) / res)) for px, py in poly]
     h, w = costs.shape
-    if any(not (0 <= cx < w and 0 <= cy < h) for cx, cy in cells):
+    u, v = (poly[:, 0] - ox) / res, (poly[:, 1] - oy) / res
+    if (u < 0).any() or (v < 0).any() or (u >= w).any() or (v >= h).any():
         return -1
     best = 0
-    for i in range(len(cells)):
-        for cx, cy in _line(*cells[i - 1], *cells[i]):
-            best = max(best, int(costs[cy, cx]))
-    my, mx = np.mgrid[0:h, 0:w]
-    inside = _inside(ox + (mx + 0.5) * res, oy + (my + 0.5) * res, poly)
-    if inside.any():
-        best = max(best, int(costs[inside].max()))
+    for my in range(int(v.min()), int(v.max()) + 1):
+        for mx in range(int(u.min()), int(u.max()) + 1):
+            if costs[my, mx] > best and _meets_square(
+                    poly, ox + mx * res, oy + my * res, ox + (mx + 1) * res, oy + (my + 1) * res):
+                best = int(costs[my, mx])
     return best
 
 
@@ -108,16 +105,25 @@ def test_footprint_cost_matches_brute_force_on_random_poses(shape):
     res, ox, oy = 0.05, -1.0, 0.5
     h, w = 40, 48
     for trial in range(150):
-        # sparse random costs so that the max comes from a specific cell, sometimes inside only
+        # sparse random costs so that the max comes from one cell: on the rim or inside
         costs = np.zeros((h, w), np.uint8)
-        k = rng.integers(1, 6)
-        costs[rng.integers(0, h, k), rng.integers(0, w, k)] = rng.integers(1, 256, k)
+        k = rng.integers(1, 8) if trial % 3 else h * w // 4   # every third map is dense
+        costs[rng.integers(0, h, k), rng.integers(0, w, k)] = rng.integers(1, 255, k)
         x = ox + rng.uniform(-0.2, w * res + 0.2)
         y = oy + rng.uniform(-0.2, h * res + 0.2)
         th = rng.uniform(-math.pi, math.pi)
         expected = _brute_force(costs, ox, oy, res, fp, x, y, th)
         got = footprint_cost(costs, ox, oy, res, fp, x, y, th)
         assert got == expected, (trial, x, y, th)
+
+
+def test_footprint_cost_counts_cells_the_rim_only_grazes():
+    square = np.array([[0.1, 0.1], [0.1, -0.1], [-0.1, -0.1], [-0.1, 0.1]])
+    costs = np.zeros((20, 20), np.uint8)
+    costs[10, 12] = 200          # cell [0.60, 0.65) x [0.50, 0.55): its centre is outside
+    # the square around (0.5, 0.5) reaches x = 0.6 + 0.001: it overlaps that cell by 1 mm
+    assert footprint_cost(costs, 0.0, 0.0, 0.05, square, 0.501, 0.52, 0.0) == 200
+    assert footprint_cost(costs, 0.0, 0.0, 0.05, square, 0.499, 0.52, 0.0) == 0
 
 
 def test_footprint_cost_sees_an_obstacle_strictly_inside():

@@ -2,7 +2,7 @@
 
 A footprint is an (N, 2) float64 polygon in the robot frame. ``footprint_cost`` is a numba kernel
 meant to be called from other kernels (the local planner scores hundreds of thousands of poses per
-cycle), so it allocates only two tiny arrays per call and visits each covered cell about once.
+cycle), so it allocates one tiny array per call and reads each covered cell once.
 """
 
 from __future__ import annotations
@@ -100,53 +100,73 @@ def circumscribed_radius(fp: np.ndarray) -> float:
     return _min_max_distances(fp)[1]
 
 
-@njit(cache=True, nogil=True)
-def _line_max(costs: np.ndarray, x0: int, y0: int, x1: int, y1: int, best: int) -> int:
-    """Max of ``best`` and the costs on the line from (x0, y0) to (x1, y1), both ends included.
+@njit(cache=True, nogil=True, inline="always")
+def _vertex(footprint: np.ndarray, k: int, x: float, y: float, c: float, s: float,
+            origin_x: float, origin_y: float, inv: float) -> tuple[float, float]:
+    """Vertex k at the pose, in cell units from the grid origin."""
+    return ((x + c * footprint[k, 0] - s * footprint[k, 1] - origin_x) * inv,
+            (y + s * footprint[k, 0] + c * footprint[k, 1] - origin_y) * inv)
 
-    Bresenham stepping as base_local_planner's LineIterator: the error starts at half the major
-    delta and a minor step happens when it reaches the major delta.
-    """
-    dx = abs(x1 - x0)
-    dy = abs(y1 - y0)
-    sx = 1 if x1 >= x0 else -1
-    sy = 1 if y1 >= y0 else -1
-    x = x0
-    y = y0
-    if dx >= dy:
-        num = dx // 2
-        for _ in range(dx + 1):
-            c = costs[y, x]
-            if c > best:
-                best = c
-            num += dy
-            if num >= dx:
-                num -= dx
-                y += sy
-            x += sx
-    else:
-        num = dy // 2
-        for _ in range(dy + 1):
-            c = costs[y, x]
-            if c > best:
-                best = c
-            num += dx
-            if num >= dy:
-                num -= dy
-                x += sx
-            y += sy
-    return best
+
+@njit(cache=True, nogil=True)
+def _square_meets_polygon(u: np.ndarray, v: np.ndarray, i: int, j: int) -> bool:
+    """Whether the closed cell square [i, i+1] x [j, j+1] meets the polygon (u, v) (cell units):
+    a vertex inside the square, a square corner inside the polygon, or an edge crossing it."""
+    n = u.shape[0]
+    for k in range(n):
+        if i <= u[k] <= i + 1 and j <= v[k] <= j + 1:
+            return True
+    for corner in range(4):
+        cx = i + (corner & 1)
+        cy = j + (corner >> 1)
+        inside = False
+        for k in range(n):
+            au, av, bu, bv = u[k - 1], v[k - 1], u[k], v[k]
+            if (av <= cy) != (bv <= cy):
+                if au + (cy - av) * (bu - au) / (bv - av) > cx:
+                    inside = not inside
+        if inside:
+            return True
+    for k in range(n):  # clip each edge to the square (Liang-Barsky)
+        au, av = u[k - 1], v[k - 1]
+        du, dv = u[k] - au, v[k] - av
+        t0, t1 = 0.0, 1.0
+        ok = True
+        for side in range(4):
+            if side == 0:
+                p, q = -du, au - i
+            elif side == 1:
+                p, q = du, i + 1 - au
+            elif side == 2:
+                p, q = -dv, av - j
+            else:
+                p, q = dv, j + 1 - av
+            if p == 0.0:
+                if q < 0.0:
+                    ok = False
+                    break
+            elif p < 0.0:
+                t0 = max(t0, q / p)
+            else:
+                t1 = min(t1, q / p)
+            if t0 > t1:
+                ok = False
+                break
+        if ok:
+            return True
+    return False
 
 
 @njit(cache=True, nogil=True)
 def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
                    footprint: np.ndarray, x: float, y: float, theta: float) -> int:
-    """Max cost of the cells under the footprint outline and inside it at pose (x, y, theta).
+    """Max cost of the cells the footprint covers at pose (x, y, theta): every cell its outline
+    passes through and every cell inside it (a conservative rasterisation: no cell the robot
+    overlaps is missed). -1 if any vertex is off the map.
 
-    The outline is the Bresenham line between the cells of consecutive vertices (ends included);
-    the inside is every cell whose centre lies in the polygon (even-odd rule, so non-convex
-    footprints work too). Returns -1 if any vertex is off the map. Scan conversion is edge
-    driven: each edge only visits the rows it spans.
+    Row by row: the part of each edge within a row band gives the row's x extent; for a convex
+    footprint the covered cells of a row are that one span, read with a vectorised max. A
+    non-convex footprint checks each cell of the span exactly. One small allocation per call.
     """
     n = footprint.shape[0]
     size_y = costs.shape[0]
@@ -154,98 +174,68 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     c = math.cos(theta)
     s = math.sin(theta)
     inv = 1.0 / resolution
-    # vertices in the world, and their cells; any vertex off the map -> -1
-    vw = np.empty((n, 2), dtype=np.float64)
-    min_my = size_y
-    max_my = -1
-    for i in range(n):
-        wx = x + c * footprint[i, 0] - s * footprint[i, 1]
-        wy = y + s * footprint[i, 0] + c * footprint[i, 1]
-        vw[i, 0] = wx
-        vw[i, 1] = wy
-        mx = int(math.floor((wx - origin_x) * inv))
-        my = int(math.floor((wy - origin_y) * inv))
-        if mx < 0 or my < 0 or mx >= size_x or my >= size_y:
+    vmin = 1e300
+    vmax = -1e300
+    for k in range(n):
+        a, b = _vertex(footprint, k, x, y, c, s, origin_x, origin_y, inv)
+        if not (a >= 0.0 and b >= 0.0 and a < size_x and b < size_y):  # also catches NaN
             return -1
-        if my < min_my:
-            min_my = my
-        if my > max_my:
-            max_my = my
-    # outline
-    best = 0
-    pmx = int(math.floor((vw[n - 1, 0] - origin_x) * inv))
-    pmy = int(math.floor((vw[n - 1, 1] - origin_y) * inv))
-    for i in range(n):
-        mx = int(math.floor((vw[i, 0] - origin_x) * inv))
-        my = int(math.floor((vw[i, 1] - origin_y) * inv))
-        best = _line_max(costs, pmx, pmy, mx, my, best)
-        pmx = mx
-        pmy = my
-    if best == 255:
-        return best
-    # inside: per row, the leftmost and rightmost edge crossing at the cell-centre height
-    rows = max_my - min_my + 1
-    span = np.empty((rows, 2), dtype=np.float64)
-    count = np.zeros(rows, dtype=np.int64)
+        vmin = min(vmin, b)
+        vmax = max(vmax, b)
+    r0 = int(vmin)
+    rows = int(vmax) - r0 + 1
+    span = np.empty(2 * rows, dtype=np.float64)  # x extent of row band r: [2r], [2r + 1]
     for r in range(rows):
-        span[r, 0] = 1e300
-        span[r, 1] = -1e300
-    for i in range(n):
-        ax = vw[i - 1, 0]
-        ay = vw[i - 1, 1]
-        bx = vw[i, 0]
-        by = vw[i, 1]
-        if ay == by:
+        span[2 * r] = 1e300
+        span[2 * r + 1] = -1e300
+    convex = True
+    turn = 0.0
+    au, av = _vertex(footprint, n - 1, x, y, c, s, origin_x, origin_y, inv)
+    bu, bv = _vertex(footprint, 0, x, y, c, s, origin_x, origin_y, inv)
+    for k in range(n):
+        cu, cv = _vertex(footprint, (k + 1) % n, x, y, c, s, origin_x, origin_y, inv)
+        cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
+        if cross != 0.0:  # convex iff every turn has one sign
+            if turn == 0.0:
+                turn = cross
+            elif (cross > 0.0) != (turn > 0.0):
+                convex = False
+        e0 = min(av, bv)
+        e1 = max(av, bv)
+        if e0 == e1:
+            r = int(e0) - r0
+            span[2 * r] = min(span[2 * r], min(au, bu))
+            span[2 * r + 1] = max(span[2 * r + 1], max(au, bu))
+        else:
+            slope = (bu - au) / (bv - av)
+            for band in range(int(e0), int(e1) + 1):
+                xa = au + (max(e0, float(band)) - av) * slope
+                xb = au + (min(e1, band + 1.0) - av) * slope
+                r = band - r0
+                span[2 * r] = min(span[2 * r], min(xa, xb))
+                span[2 * r + 1] = max(span[2 * r + 1], max(xa, xb))
+        au, av, bu, bv = bu, bv, cu, cv
+    best = 0
+    for r in range(rows):
+        if span[2 * r] > span[2 * r + 1]:
             continue
-        ylo = min(ay, by)
-        yhi = max(ay, by)
-        slope = (bx - ax) / (by - ay)
-        r0 = max(int(math.floor((ylo - origin_y) * inv - 0.5)), min_my)
-        r1 = min(int(math.floor((yhi - origin_y) * inv - 0.5)) + 1, max_my)
-        for row in range(r0, r1 + 1):
-            yc = origin_y + (row + 0.5) * resolution
-            if yc < ylo or yc >= yhi:
-                continue
-            xc = ax + (yc - ay) * slope
-            k = row - min_my
-            count[k] += 1
-            if xc < span[k, 0]:
-                span[k, 0] = xc
-            if xc > span[k, 1]:
-                span[k, 1] = xc
-    for k in range(rows):
-        if count[k] < 2:
-            continue
-        row = min_my + k
-        yc = origin_y + (row + 0.5) * resolution
-        # centres cx = origin_x + (mx + 0.5) * res within [xl, xr]
-        m0 = max(int(math.ceil((span[k, 0] - origin_x) * inv - 0.5)), 0)
-        m1 = min(int(math.floor((span[k, 1] - origin_x) * inv - 0.5)), size_x - 1)
+        row = r0 + r
+        m0 = int(span[2 * r])
+        m1 = min(int(span[2 * r + 1]), size_x - 1)
         crow = costs[row]
-        if count[k] == 2:  # one span (every row of a convex footprint)
+        if convex:
             rb = np.uint8(0)
             for mx in range(m0, m1 + 1):
                 rb = max(rb, crow[mx])  # branch-free, vectorisable
-            if rb > best:
-                best = rb
-        else:  # non-convex row: even-odd test per cell centre
+            best = max(best, np.int64(rb))
+        else:
+            u = np.empty(n, dtype=np.float64)
+            v = np.empty(n, dtype=np.float64)
+            for k in range(n):
+                u[k], v[k] = _vertex(footprint, k, x, y, c, s, origin_x, origin_y, inv)
             for mx in range(m0, m1 + 1):
-                xc0 = origin_x + (mx + 0.5) * resolution
-                inside = False
-                for i in range(n):
-                    ax = vw[i - 1, 0]
-                    ay = vw[i - 1, 1]
-                    bx = vw[i, 0]
-                    by = vw[i, 1]
-                    if (ay <= yc < by) or (by <= yc < ay):
-                        if ax + (yc - ay) * (bx - ax) / (by - ay) > xc0:
-                            inside = not inside
-                if inside:
-                    v = crow[mx]
-                    if v > best:
-                        best = v
-        if best == 255:
-            return best
+                if crow[mx] > best and _square_meets_polygon(u, v, mx, row):
+                    best = np.int64(crow[mx])
     return best
 
 
