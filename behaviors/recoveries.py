@@ -3,7 +3,8 @@ semantics), and the guide's extra SMACH-style ones, TemporaryGoal and BackOffToP
 
 Motion recoveries write ``cmd_vel`` one control period at a time, check the robot footprint on
 the costmap (``footprint_cost``) along the motion ahead, and fail with COLLISION_AHEAD rather than
-drive into a lethal cell. Every exit (finished or interrupted) leaves a zero command.
+drive into a lethal cell or from free space into inscribed cost (a robot already in inscribed
+cost may move through it to get out). Every exit (finished or interrupted) leaves a zero command.
 """
 
 from __future__ import annotations
@@ -22,9 +23,13 @@ from navcore.types import Pose2D, Twist, angle_diff
 COSTMAP_CHOICES = ("local", "global", "both")
 
 
-def is_collision(cost: int) -> bool:
-    """A footprint cost that forbids the pose: off the map (-1) or touching a lethal cell."""
-    return cost < 0 or (cost >= LETHAL_OBSTACLE and cost != NO_INFORMATION)
+def is_collision(cost: int, start_cost: int = 0) -> bool:
+    """A footprint cost that forbids the pose: off the map (-1), touching a lethal cell, or
+    entering inscribed cost from a pose that was not already there. (A robot already in a
+    tight spot may move through inscribed cells to get out; unknown cells do not block.)"""
+    if cost < 0 or cost == LETHAL_OBSTACLE:
+        return True
+    return cost == INSCRIBED_INFLATED_OBSTACLE and start_cost < INSCRIBED_INFLATED_OBSTACLE
 
 
 class Recovery(Leaf):
@@ -55,14 +60,20 @@ class Recovery(Leaf):
             self.write("error_code_id", int(code))
         self.say(msg)
 
-    def first_collision(self, poses: Iterable[Pose2D]) -> tuple[Pose2D, int] | None:
-        """First pose whose footprint is in collision, with its cost; None if all are clear."""
+    def first_collision(self, poses: Iterable[Pose2D], start: Pose2D | None = None
+                        ) -> tuple[Pose2D, int] | None:
+        """First pose whose footprint is in collision (see ``is_collision``; ``start`` is where
+        the robot is now), with its cost; None if all are clear."""
         handle = self.collision_map()
         if handle is None:
             return None
+        start_cost = 0 if start is None else int(handle.footprint_cost(start.x, start.y,
+                                                                        start.theta))
+        if start_cost == NO_INFORMATION:
+            start_cost = 0
         for p in poses:
             cost = int(handle.footprint_cost(p.x, p.y, p.theta))
-            if is_collision(cost):
+            if is_collision(cost, start_cost):
                 return p, cost
         return None
 
@@ -207,8 +218,9 @@ class Spin(Recovery):
     Speed = clamp(sqrt(2 acc remaining), min_rotational_vel, max_rotational_vel), ramped by at
     most ``rotational_acc_lim`` per second. RUNNING while turning; SUCCESS when the turned angle
     is within ``yaw_goal_tolerance`` of the target; FAILURE (``error_code_id``) when
-    ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell within the
-    next ``simulate_ahead_time`` seconds of turning (COLLISION_AHEAD). A new run counts from zero.
+    ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell (or enter
+    inscribed cost) within the next ``simulate_ahead_time`` seconds of turning
+    (COLLISION_AHEAD). A new run counts from zero.
     """
 
     INPUT_PORTS = {
@@ -257,7 +269,7 @@ class Spin(Recovery):
             n = max(1, int(math.ceil(ahead / step)))
             poses = (Pose2D(pose.x, pose.y, pose.theta + sign * ahead * k / n)
                      for k in range(1, n + 1))
-            hit = self.first_collision(poses)
+            hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
                 self.report(BehaviorError.COLLISION_AHEAD,
@@ -274,8 +286,8 @@ class DriveOnHeading(Recovery):
     (negative values drive backwards), then stop (Nav2 ``DriveOnHeading``).
 
     RUNNING while driving; SUCCESS when the distance is covered; FAILURE on ``time_allowance``
-    (TIMEOUT), on a lethal cell under the footprint within ``simulate_ahead_time`` s of travel
-    (COLLISION_AHEAD), or when distance and speed have different signs (INVALID_INPUT).
+    (TIMEOUT), on a lethal cell under the footprint (or newly inscribed cost) within
+    ``simulate_ahead_time`` s of travel (COLLISION_AHEAD), or when distance and speed have different signs (INVALID_INPUT).
     """
 
     INPUT_PORTS = {
@@ -320,7 +332,7 @@ class DriveOnHeading(Recovery):
             n = max(1, int(math.ceil(ahead / 0.05)))
             poses = (pose.compose(Pose2D(direction * ahead * k / n, 0.0, 0.0))
                      for k in range(1, n + 1))
-            hit = self.first_collision(poses)
+            hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
                 self.report(BehaviorError.COLLISION_AHEAD,
@@ -565,7 +577,7 @@ class BackOffToPreviousPose(Recovery):
             for _ in range(n):
                 p = p.compose(Pose2D(v * dt, 0.0, w * dt))
                 poses.append(p)
-            hit = self.first_collision(poses)
+            hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
                 self.report(BehaviorError.COLLISION_AHEAD,

@@ -310,3 +310,16 @@ def test_temporary_goal_and_back_off_give_up_without_progress():
     status, n = rig.run(rig.node("BackOffToPreviousPose", movement_time_allowance=2.0))
     assert status == F and rig.get("back_off_error_code") == BehaviorError.TIMEOUT
     assert 40 <= n <= 43
+
+
+def test_motion_refuses_to_enter_inscribed_cost_but_may_leave_it():
+    # inscribed band for x < -0.2: backing into it from free space is refused
+    band = FakeCostmap(footprint=lambda x, y, t: 253 if x < -0.2 else 0)
+    rig = Rig(World(local_costmap=band))
+    status, _ = rig.run(rig.node("BackUp", backup_dist=0.5, backup_speed=0.15))
+    assert status == F and rig.get("backup_error_code") == BehaviorError.COLLISION_AHEAD
+    # already in inscribed cost (next to a wall): backing out through it is allowed
+    tight = FakeCostmap(footprint=lambda x, y, t: 253 if x > -0.3 else 0)
+    rig2 = Rig(World(local_costmap=tight))
+    status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
+    assert status == S and rig2.world.robot.pose().x == pytest.approx(-0.5, abs=0.01)
