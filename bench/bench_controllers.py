@@ -32,7 +32,7 @@ HEAVY = {"vx_samples": 20, "vth_samples": 40, "sim_time": 4.0, "sim_granularity"
 def scene() -> tuple[Costmap2D, Path, Pose2D, Twist]:
     cm = Costmap2D(120, 120, 0.05, -3.0, -3.0)
     for x0, y0, x1, y1 in ((1.0, 0.9, 1.6, 1.4), (1.8, -1.5, 2.4, -0.9), (-1.0, 1.2, 0.2, 1.5),
-                           (2.6, 0.4, 2.9, 0.8)):
+                           (2.6, 0.9, 2.9, 1.2)):
         cm.costs[int((y0 + 3) / 0.05):int((y1 + 3) / 0.05),
                  int((x0 + 3) / 0.05):int((x1 + 3) / 0.05)] = 254
     inflate(cm.costs, cost_table(0.05, 0.22, 0.55, 10.0))

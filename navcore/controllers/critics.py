@@ -28,6 +28,7 @@ trajectory is the lower bound reached when it was dropped, as ROS's own early ex
 
 from __future__ import annotations
 
+import heapq
 import math
 
 import numpy as np
@@ -97,10 +98,13 @@ def footprint_scale(vx: float, vy: float, scaling_speed: float, max_vel_trans: f
 def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: float,
                  origin_y: float, resolution: float, path_grid: np.ndarray,
                  goal_grid: np.ndarray, front_grid: np.ndarray, weights: np.ndarray,
-                 costs: np.ndarray) -> tuple[float, int]:
+                 costs: np.ndarray, start: int = 0) -> tuple[float, int]:
     """The four map-grid critics of trajectory ``k`` in one pass over its points: the weighted
     sum, or the first critic's negative code in chain order (goal_front, alignment, path, goal);
     and the worst centre-cell cost seen, a lower bound of the obstacle critic for free.
+
+    With ``start = n - 1`` only the last point is judged: the sum is then already exact for a
+    valid trajectory (aggregation Last), which makes it a cheap first bound.
 
     Same results as ``grid_critic`` called once per critic (aggregation Last; goal_front and
     alignment at the nose points without stop_on_failure; path and goal with it).
@@ -124,7 +128,7 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
     v_path = 0.0
     v_goal = 0.0
     cmax = 0
-    for i in range(n):
+    for i in range(start, n):
         if use_nose and c_nose == 0.0:
             px = nose[k, i, 0]
             py = nose[k, i, 1]
@@ -234,6 +238,10 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     scaling_speed, max_vel_trans, max_scaling_factor, sum_scores (0/1).
     ``state``: SCORED, PRUNED (score is a lower bound) or REJECTED (score is the code).
     With ``exhaustive`` every trajectory is scored in full (for drawing and for tests).
+
+    Three bounds, each exact or below the true cost, let most trajectories stop early: the grid
+    critics at the last point (one lookup each), then over all points plus the worst centre
+    cell, then the footprints themselves.
     """
     occ_s = weights[0]
     twirl_s = weights[5]
@@ -241,54 +249,80 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     k_n = pts.shape[0]
     scores = np.zeros(k_n)
     state = np.zeros(k_n, dtype=np.int8)
-    bound = np.full(k_n, np.inf)
-    base = np.zeros(k_n)  # the cost of everything but the footprint
-    # pass 1: everything but the footprint
+    cheap = np.full(k_n, np.inf)
+    no_costs = costs[:0, :0]
+    base_of = np.zeros(k_n)  # the cost of everything but the footprint
+    # stage 0: oscillation and the last point
     for k in range(k_n):
         vth = vels[k, 2]
         c = oscillation_critic(vels[k, 0], vels[k, 1], vth, flags)
-        cmax = 0
         if c >= 0:
-            c, cmax = grid_critics(pts, nose, k, steps[k], origin_x, origin_y, resolution,
-                                   path_grid, goal_grid, front_grid, weights, costs)
-        if c >= 0 and cmax >= LETHAL_OBSTACLE:
-            c = -6.0  # the centre cell lies inside the footprint
+            c = grid_critics(pts, nose, k, steps[k], origin_x, origin_y, resolution, path_grid,
+                             goal_grid, front_grid, weights, no_costs, steps[k] - 1)[0]
         if c < 0:
             scores[k] = c
             state[k] = REJECTED
             continue
-        base[k] = c + twirl_s * abs(vth)
-        bound[k] = base[k] + occ_s * cmax
-        scores[k] = bound[k]
-    # pass 2: footprints, cheapest lower bound first
-    order = np.argsort(bound, kind="mergesort")
+        cheap[k] = c + twirl_s * abs(vth)
+        scores[k] = cheap[k]
+    order = np.argsort(cheap, kind="mergesort")
     best = -1
     best_cost = np.inf
-    for j in range(k_n):
-        k = order[j]
-        if state[k] == REJECTED:
-            break  # rejected ones sort last (bound = inf)
+    # best first: a trajectory's footprints are checked only once its bound is the lowest of
+    # all bounds known (heap) or knowable (the next cheap bound, which the others exceed)
+    heap = [(0.0, 0)]
+    heap.pop()
+    j = 0
+    while True:
         slack = 1e-9 * (1.0 + abs(best_cost)) if best >= 0 else 0.0
-        if not exhaustive and best >= 0 and bound[k] > best_cost + slack:
-            state[k] = PRUNED
-            continue
-        fp = footprint
-        s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
-        if s != 1.0:
-            fp = footprint * s
         budget = np.inf if (exhaustive or best < 0) else best_cost + slack
-        o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
-                            sum_scores, base[k], occ_s, budget)
-        if o < 0:
-            scores[k] = o
-            state[k] = REJECTED
-            continue
-        total = base[k] + occ_s * o
-        scores[k] = total
-        if budget < np.inf and total > budget:
-            state[k] = PRUNED
-            continue
-        if best < 0 or total < best_cost or (total == best_cost and k < best):
-            best = k
-            best_cost = total
+        next_cheap = np.inf
+        if j < k_n and state[order[j]] != REJECTED:
+            next_cheap = cheap[order[j]]
+        if len(heap) > 0 and heap[0][0] <= next_cheap:
+            b2, k = heapq.heappop(heap)
+            if b2 > budget:
+                scores[k] = b2
+                state[k] = PRUNED
+                continue
+            # stage 2: the footprint at every point
+            fp = footprint
+            s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
+            if s != 1.0:
+                fp = footprint * s
+            base = base_of[k]
+            o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
+                                sum_scores, base, occ_s, budget)
+            if o < 0:
+                scores[k] = o
+                state[k] = REJECTED
+                continue
+            total = base + occ_s * o
+            scores[k] = total
+            if total > budget:
+                state[k] = PRUNED
+                continue
+            if best < 0 or total < best_cost or (total == best_cost and k < best):
+                best = k
+                best_cost = total
+        elif next_cheap < np.inf:
+            k = order[j]
+            j += 1
+            if cheap[k] > budget:
+                state[k] = PRUNED  # and so will be every later one
+                continue
+            # stage 1: every point of the grid critics, and the centre cells
+            c, cmax = grid_critics(pts, nose, k, steps[k], origin_x, origin_y, resolution,
+                                   path_grid, goal_grid, front_grid, weights, costs, 0)
+            if c >= 0 and cmax >= LETHAL_OBSTACLE:
+                c = -6.0  # the centre cell lies inside the footprint
+            if c < 0:
+                scores[k] = c
+                state[k] = REJECTED
+                continue
+            base_of[k] = c + twirl_s * abs(vels[k, 2])
+            scores[k] = base_of[k] + occ_s * cmax
+            heapq.heappush(heap, (scores[k], k))
+        else:
+            break
     return scores, state, best

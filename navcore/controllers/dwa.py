@@ -222,7 +222,7 @@ class DWAPlanner(LocalPlannerBase):
                 max_y = max(min(max_y, d), p.min_vel_y)
         hi = np.minimum([max_x, max_y, p.max_vel_theta], v + reach)
         lo = np.maximum([p.min_vel_x, p.min_vel_y, -p.max_vel_theta], v - reach)
-        return sample_grid(lo, hi, (p.vx_samples, p.vy_samples, p.vth_samples))
+        return sample_grid(lo, hi, np.array([p.vx_samples, p.vy_samples, p.vth_samples]))
 
     def _follow(self, pose: Pose2D, velocity: Twist, local: np.ndarray,
                 ctx: dict[str, Any]) -> ControlResult:

@@ -16,36 +16,54 @@ from numba import njit
 EPS = 1e-4  # the generator's tolerance on the min/max translational checks
 
 
-def velocity_iterator(vmin: float, vmax: float, n: int) -> list[float]:
+@njit(cache=True, nogil=True)
+def velocity_iterator(vmin: float, vmax: float, n: int) -> np.ndarray:
     """VelocityIterator: one sample when the range is empty, else max(2, n) evenly spaced samples
     with both ends, plus an exact 0 where the range crosses zero between two samples."""
     if vmin == vmax:
-        return [float(vmin)]
-    n = max(2, int(n))
+        out = np.empty(1)
+        out[0] = vmin
+        return out
+    n = max(2, n)
     step = (vmax - vmin) / max(1, n - 1)
-    out: list[float] = []
+    out = np.empty(n + 1)
+    k = 0
     nxt = vmin
     for _ in range(n - 1):
         cur = nxt
         nxt += step
-        out.append(float(cur))
+        out[k] = cur
+        k += 1
         if cur < 0.0 < nxt:
-            out.append(0.0)
-    out.append(float(vmax))
-    return out
+            out[k] = 0.0
+            k += 1
+    out[k] = vmax
+    return out[:k + 1]
 
 
-def sample_grid(lo: np.ndarray, hi: np.ndarray, counts: tuple[int, int, int]) -> np.ndarray:
+@njit(cache=True, nogil=True)
+def sample_grid(lo: np.ndarray, hi: np.ndarray, counts: np.ndarray) -> np.ndarray:
     """The Cartesian product vx x vy x vth of the three iterators, vth varying fastest, (K, 3).
 
     A window with ``lo > hi`` (a velocity already outside the limits) still yields its iterator's
     samples, as in ROS.
     """
-    axes = [velocity_iterator(float(lo[i]), float(hi[i]), counts[i]) for i in range(3)]
-    g = np.array(np.meshgrid(axes[0], axes[1], axes[2], indexing="ij"), dtype=np.float64)
-    return g.reshape(3, -1).T.copy()
+    ax = velocity_iterator(lo[0], hi[0], counts[0])
+    ay = velocity_iterator(lo[1], hi[1], counts[1])
+    at = velocity_iterator(lo[2], hi[2], counts[2])
+    out = np.empty((ax.size * ay.size * at.size, 3))
+    k = 0
+    for i in range(ax.size):
+        for j in range(ay.size):
+            for m in range(at.size):
+                out[k, 0] = ax[i]
+                out[k, 1] = ay[j]
+                out[k, 2] = at[m]
+                k += 1
+    return out
 
 
+@njit(cache=True, nogil=True)
 def filter_and_steps(samples: np.ndarray, sim_time: float, sim_granularity: float,
                      angular_sim_granularity: float, min_vel_trans: float, min_vel_theta: float,
                      max_vel_trans: float) -> tuple[np.ndarray, np.ndarray]:
@@ -54,15 +72,25 @@ def filter_and_steps(samples: np.ndarray, sim_time: float, sim_granularity: floa
     Refused: too slow both in translation and rotation (each check only when its minimum is >= 0),
     faster than ``max_vel_trans`` (when >= 0), or zero steps (standing still).
     """
-    vmag = np.hypot(samples[:, 0], samples[:, 1])
-    w = np.abs(samples[:, 2])
-    too_slow = ((min_vel_trans >= 0) & (vmag + EPS < min_vel_trans)
-                & (min_vel_theta >= 0) & (w + EPS < min_vel_theta))
-    too_fast = (max_vel_trans >= 0) & (vmag - EPS > max_vel_trans)
-    steps = np.ceil(np.maximum(vmag * sim_time / sim_granularity,
-                               w * sim_time / angular_sim_granularity)).astype(np.int64)
-    keep = ~too_slow & ~too_fast & (steps > 0)
-    return samples[keep], steps[keep]
+    kept = np.empty_like(samples)
+    steps = np.empty(samples.shape[0], dtype=np.int64)
+    k = 0
+    for i in range(samples.shape[0]):
+        vmag = math.hypot(samples[i, 0], samples[i, 1])
+        w = abs(samples[i, 2])
+        if (min_vel_trans >= 0 and vmag + EPS < min_vel_trans
+                and min_vel_theta >= 0 and w + EPS < min_vel_theta):
+            continue
+        if max_vel_trans >= 0 and vmag - EPS > max_vel_trans:
+            continue
+        n = int(math.ceil(max(vmag * sim_time / sim_granularity,
+                              w * sim_time / angular_sim_granularity)))
+        if n <= 0:
+            continue
+        kept[k] = samples[i]
+        steps[k] = n
+        k += 1
+    return kept[:k].copy(), steps[:k].copy()
 
 
 @njit(cache=True, nogil=True)
