@@ -7,9 +7,9 @@ The cost of a cell is ``min(cost * cost_factor + neutral_cost, lethal_cost - 1)`
 wave is seeded over the 2x2 block around the start, the 5x5 around the goal is given potential
 (``clearEndpoint``) and world points are ``origin + (cell + 0.5) * res``.
 
-Differences from the C++, on purpose: A* is an exact A* on the same wavefront (the C++ assigns a
-cell once and never improves it, so its paths are not least-cost), Dijkstra runs until the goal's
-potential is final, no queue cap, buffers reused, the shared costmap is never written
+Differences from the C++, on purpose: A* is an exact A* over the same potential (``astar``; the
+C++ assigns a cell once and never improves it, so its paths are not least-cost), Dijkstra runs
+until the goal's potential is final, no queue cap, buffers reused, the shared costmap is never written
 (``outline_map`` and the robot-cell clearing act on the planner's view only), and
 ``default_tolerance`` is honoured (the C++ declares it and ignores it).
 """
@@ -21,12 +21,12 @@ import numpy as np
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.costmap.cost_values import NO_INFORMATION
 from navcore.params import Param, Parameters
+from navcore.planners.astar import HEURISTIC_EUCLIDEAN, HEURISTIC_MANHATTAN, astar
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.orientation import apply_orientation
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
-from navcore.planners.wavefront import (HEURISTIC_EUCLIDEAN, HEURISTIC_MANHATTAN, HEURISTIC_NONE,
-                                        POT_HIGH, Workspace, propagate, reset_buffers)
+from navcore.planners.wavefront import POT_HIGH, Workspace, propagate, reset_buffers
 from navcore.types import Path, Pose2D
 
 GLOBAL_PLANNER_PARAMS = (
@@ -150,20 +150,22 @@ class GlobalPlanner:
             pushes = [k + 2, k - 1, k + nx - 1, k + nx + 2, k - nx, k - nx + 1, k + 2 * nx,
                       k + 2 * nx + 1]
         target = int(g[1]) * nx + int(g[0])
+        seeds_a = np.array(seeds, np.int64)
+        pots_a = np.array(seed_pots, np.float32)
         if p.use_dijkstra:
-            hkind, hscale = HEURISTIC_NONE, 0.0
-        elif p.use_quadratic:
-            # a quadratic update raises potential by >= 0.704 of a cell cost per cell: scaled so,
-            # the straight-line heuristic stays consistent and the goal's potential exact
-            hkind, hscale = HEURISTIC_EUCLIDEAN, 0.704 * neutral
+            reached, self.last_updates, _ = propagate(
+                costs, lut, np.floor(lut), float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a,
+                ws.buf_b, ws.buf_c, seeds_a, pots_a, np.array(pushes, np.int64), target,
+                float(lethal), float(2 * neutral), 2 * nx * ny, p.use_quadratic)
         else:
-            hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
-        reached, self.last_updates, _ = propagate(
-            costs, lut, np.floor(lut), float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a,
-            ws.buf_b, ws.buf_c,
-            np.array(seeds, np.int64), np.array(seed_pots, np.float32),
-            np.array(pushes, np.int64), target, float(lethal), float(2 * neutral), 2 * nx * ny,
-            p.use_quadratic, hkind, hscale)
+            if p.use_quadratic:
+                # not exact for the quadratic update (see astar): a few percent above Dijkstra
+                hkind, hscale = HEURISTIC_EUCLIDEAN, 0.99 * neutral
+            else:
+                hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
+            reached, self.last_updates = astar(
+                costs, lut, np.floor(lut), float(lethal), nx, ny, ws.pot, ws.pending, seeds_a,
+                pots_a, target, p.use_quadratic, hkind, hscale)
         publish = p.publish_potential or p.visualize_potential
         potential = ws.pot.reshape(ny, nx) if publish else None
         passable = lut[cm.costs] < lethal

@@ -92,7 +92,7 @@ class NavFn:
             costs, lut, lut, float(COST_OBS), nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b,
             ws.buf_c, np.array([k], np.int64), np.array([0.0], np.float32),
             np.array([k + 1, k - 1, k - nx, k + nx], np.int64), target, float(COST_OBS),
-            float(2 * COST_NEUTRAL), 2 * nx * ny, True, 0, 0.0)
+            float(2 * COST_NEUTRAL), 2 * nx * ny, True)
         potential = ws.pot.reshape(ny, nx) if p.visualize_potential else None
         best = search_tolerance(cm, ws.pot, goal, tol)
         if best is None:

@@ -15,7 +15,7 @@ Deliberate differences from the C++ (each fixes a real fault; none changes a con
 * The search stops when a threshold band is exhausted with the target's potential below it, not at
   the first cycle that touches the target. Every update only raises potential (by at least 0.704
   of a cell cost), so all cells below a finished band are final: the target's potential is the
-  converged (for the plain update: the exact Dijkstra / A*) value, not a first-touch estimate.
+  converged (for the plain update: the exact Dijkstra) value, not a first-touch estimate.
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
 planner's cost transform), so no transformed copy of the map is made per plan. Cells whose
@@ -25,27 +25,11 @@ global_planner's ``outline_map`` without writing into the shared costmap.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
 POT_HIGH = np.float32(1.0e10)
 INVSQRT2 = 0.707106781
-
-HEURISTIC_NONE = 0
-HEURISTIC_MANHATTAN = 1
-HEURISTIC_EUCLIDEAN = 2
-
-
-@njit(cache=True, inline="always")
-def _heuristic(n, nx, kind, scale, tx, ty):
-    x = np.int64(n) % nx
-    y = np.int64(n) // nx
-    if kind == HEURISTIC_MANHATTAN:
-        return np.float32(scale * (abs(x - tx) + abs(y - ty)))
-    return np.float32(scale * math.sqrt((x - tx) * (x - tx) + (y - ty) * (y - ty)))
-
 
 _QA = np.float32(-0.2301)
 _QB = np.float32(0.5307)
@@ -75,7 +59,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
               pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
               buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
-              max_cycles: int, quadratic: bool, hkind: int, hscale: float) -> tuple:
+              max_cycles: int, quadratic: bool) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
     ``costs`` is the flat uint8 costmap, ``lut[c]`` the cell cost (>= ``block``: impassable) and
@@ -85,8 +69,6 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
     ``(reached, cell_updates, cycles)``.
     """
     ns = nx * ny
-    tx = target % nx
-    ty = target // nx
     for i in range(seed_cells.shape[0]):
         k = seed_cells[i]
         if 0 <= k < ns:
@@ -152,10 +134,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             if not p < pot[n]:
                 continue
             pot[n] = p
-            if hkind == HEURISTIC_NONE:
-                tn = np.intp(p < t)
-            else:
-                tn = np.intp(p + _heuristic(n, nx, hkind, hscale, tx, ty) < t)
+            tn = np.intp(p < t)
             # _queue's rule, written out per neighbour (left, right, -nx, +nx): passing the
             # arrays to a helper costs reference counting in this loop
             m = n - one
