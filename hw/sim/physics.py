@@ -5,7 +5,9 @@ command within the acceleration limits, faults and slip turn wheel motion into (
 and the body moves along exact arcs in sub-steps small enough that no footprint point moves more
 than half a map cell between collision checks, so the robot cannot tunnel through a one-cell wall
 or a thin object. A sub-step that would overlap something is not taken: the robot stops there
-and the contact is reported.
+(bisected to under a millimetre from the obstacle) and the contact is reported. Odometry and IMU
+samples fall due inside a chunk, so they are published here too, into the state vector; the
+Python side builds a message only when someone reads it.
 
 The state lives in one float64 array (indices below) so that the Python side stays thin.
 """
@@ -17,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hw.sim.sensors import _wrap, odometry_noise_step
+from hw.sim.sensors import odometry_noise_step, wrap_angle
 from navcore.raycast import segment_blocked
 
 # state vector indices
@@ -263,12 +265,12 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
                 th = nth
         st[X] = x
         st[Y] = y
-        st[TH] = _wrap(th)
+        st[TH] = wrap_angle(th)
         # the wheels turned (and the encoders counted) until the body was stopped
         wx, wy, wth = arc(st[OX], st[OY], st[OTH], wvx, wvy, wwz, dt * frac)
         st[OX] = wx
         st[OY] = wy
-        st[OTH] = _wrap(wth)
+        st[OTH] = wrap_angle(wth)
         st[DIST] += math.hypot(wvx, wvy) * dt * frac
         st[ROT] += abs(wwz) * dt * frac
         if hit:
@@ -311,7 +313,7 @@ def publish_odometry(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
         period = (g - st[O_STAMP]) * dt
         # the constant body twist that moves the old odometry pose to the new one in a period:
         # an arc of angle a has its chord turned by a/2 and shortened by sinc(a/2)
-        a = _wrap(nth - oth)
+        a = wrap_angle(nth - oth)
         h = 0.5 * a
         k = 1.0 if abs(h) < 1e-9 else math.sin(h) / h
         cs = math.cos(oth + h)
@@ -345,7 +347,7 @@ def publish_imu(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
     if st[I_K] > 0.0:
         period = (g - st[I_STAMP]) * dt
         # the gyro's yaw is the integral of what it measured: the true turn plus its error
-        st[I_YAW] = _wrap(st[I_YAW] + _wrap(st[TH] - st[I_PTH]) + err * period)
+        st[I_YAW] = wrap_angle(st[I_YAW] + wrap_angle(st[TH] - st[I_PTH]) + err * period)
         ax = (st[AVX] - st[I_PVX]) / period - st[AVY] * st[AWZ]
         ay = (st[AVY] - st[I_PVY]) / period + st[AVX] * st[AWZ]
     st[I_AX] = ax + lim[L_ASIG] * n1

@@ -63,7 +63,8 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
 
 
 @njit(cache=True)
-def _wrap(a: float) -> float:
+def wrap_angle(a: float) -> float:
+    """An angle in (-pi, pi], for njit code."""
     if -math.pi < a <= math.pi:
         return a
     a = (a + math.pi) % (2.0 * math.pi)
@@ -86,19 +87,19 @@ def odometry_noise_step(ox: float, oy: float, oth: float, px: float, py: float, 
     s = math.sin(pth)
     lx = c * dxw + s * dyw  # motion in the old body frame
     ly = -s * dxw + c * dyw
-    dth = _wrap(wth - pth)
+    dth = wrap_angle(wth - pth)
     trans = math.hypot(lx, ly)
     if not omni:
         rot1 = math.atan2(ly, lx) if trans > 1e-12 else 0.0
-        rot2 = _wrap(dth - rot1)
+        rot2 = wrap_angle(dth - rot1)
         # driving backwards is not a half turn: noise grows with the smaller of the two readings
-        r1n = min(abs(rot1), abs(_wrap(rot1 - math.pi)))
-        r2n = min(abs(rot2), abs(_wrap(rot2 - math.pi)))
+        r1n = min(abs(rot1), abs(wrap_angle(rot1 - math.pi)))
+        r2n = min(abs(rot2), abs(wrap_angle(rot2 - math.pi)))
         rot1h = rot1 - math.sqrt(a1 * r1n * r1n + a2 * trans * trans) * n0
         transh = trans - math.sqrt(a3 * trans * trans + a4 * (r1n * r1n + r2n * r2n)) * n1
         rot2h = rot2 - math.sqrt(a1 * r2n * r2n + a2 * trans * trans) * n2
         return (ox + transh * math.cos(oth + rot1h), oy + transh * math.sin(oth + rot1h),
-                _wrap(oth + rot1h + rot2h))
+                wrap_angle(oth + rot1h + rot2h))
     bearing = (math.atan2(ly, lx) if trans > 1e-12 else 0.0) + oth
     st = math.sqrt(a3 * trans * trans + a4 * dth * dth)
     sr = math.sqrt(a1 * dth * dth + a2 * trans * trans)
@@ -107,4 +108,4 @@ def odometry_noise_step(ox: float, oy: float, oth: float, px: float, py: float, 
     roth = dth + sr * n1
     strafe = ss * n2
     return (ox + transh * math.cos(bearing) + strafe * math.sin(bearing),
-            oy + transh * math.sin(bearing) - strafe * math.cos(bearing), _wrap(oth + roth))
+            oy + transh * math.sin(bearing) - strafe * math.cos(bearing), wrap_angle(oth + roth))
