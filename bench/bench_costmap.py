@@ -139,6 +139,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=5, help="timed runs per figure (median)")
     args = ap.parse_args(argv)
     figures: dict[str, float] = {}
+    # the machine is shared: say how busy it was, since wall times scale with it
+    print(f"load average at start: {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs")
     willow = bench_willow(args.repeat)
     if willow is None:
         print("willow: shared data not found (set NAVBT_DATA); skipped", file=sys.stderr)
@@ -161,6 +163,7 @@ def main(argv: list[str] | None = None) -> int:
     figures["footprint_1m_ms"] = round(ms, 2)
     print(f"1e6 footprint costs (16-gon r=0.47 m at 0.05 m): {ms:8.2f} ms "
           f"({ms * 1e3 / 1e6:.3f} us each)")
+    print(f"load average at end: {os.getloadavg()[0]:.2f}")
     if args.json:
         print(json.dumps(figures))
     return 0
