@@ -222,23 +222,23 @@ class Amcl:
                                p.laser_z_rand, p.laser_sigma_hit, p.laser_lambda_short, rmax)
         else:
             self._ensure_distance_field()
+            key = (p.laser_z_hit, p.laser_z_rand, p.laser_sigma_hit, rmax, self._dist_for)
+            if key != self._table_for:
+                self._table = hit_table(self._dist, p.laser_z_hit, p.laser_z_rand,
+                                        p.laser_sigma_hit, rmax)
+                self._table_for = key
+            d = self._dist_for
+            # an end point off the map counts as max_occ_dist away from any obstacle
+            off_map = p.laser_z_hit * math.exp(-d * d / (2 * p.laser_sigma_hit ** 2)) + \
+                p.laser_z_rand / rmax
             if model == "likelihood_field":
-                key = (p.laser_z_hit, p.laser_z_rand, p.laser_sigma_hit, rmax, self._dist_for)
-                if key != self._table_for:
-                    self._table = hit_table(self._dist, p.laser_z_hit, p.laser_z_rand,
-                                            p.laser_sigma_hit, rmax)
-                    self._table_for = key
-                d = self._dist_for
-                off_map = p.laser_z_hit * math.exp(-d * d / (2 * p.laser_sigma_hit ** 2)) + \
-                    p.laser_z_rand / rmax
                 total = likelihood_field(self.particles, self.weights, ranges, bearings, m,
                                          self._table, self._geom, off_map, rmax)
             else:
                 total = likelihood_field_prob(
-                    self.particles, self.weights, ranges, bearings, m, self._dist, self._geom,
-                    self._dist_for, p.laser_z_hit, p.laser_z_rand, p.laser_sigma_hit, rmax,
-                    bool(p.do_beamskip and self.converged), p.beam_skip_distance,
-                    p.beam_skip_threshold, p.beam_skip_error_threshold)
+                    self.particles, self.weights, ranges, bearings, m, self._table, self._dist,
+                    self._geom, off_map, rmax, bool(p.do_beamskip and self.converged),
+                    p.beam_skip_distance, p.beam_skip_threshold, p.beam_skip_error_threshold)
         n = len(self.weights)
         if total > 0.0 and math.isfinite(total):
             w_avg = total / n

@@ -104,68 +104,78 @@ def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndar
 
 @njit(cache=True)
 def likelihood_field_prob(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
-                          bearings: np.ndarray, mount: np.ndarray, dist: np.ndarray,
-                          grid: np.ndarray, max_occ_dist: float, z_hit: float, z_rand: float,
-                          sigma_hit: float, range_max: float, do_beamskip: bool,
-                          beam_skip_distance: float, beam_skip_threshold: float,
-                          beam_skip_error_threshold: float) -> float:
+                          bearings: np.ndarray, mount: np.ndarray, table: np.ndarray,
+                          dist: np.ndarray, grid: np.ndarray, off_map_pz: float,
+                          range_max: float, do_beamskip: bool, beam_skip_distance: float,
+                          beam_skip_threshold: float, beam_skip_error_threshold: float) -> float:
     """amcl ``LikelihoodFieldModelProb``: w *= exp(sum log pz), with optional beam skipping.
 
+    ``table`` is ``hit_table`` (pz per cell), ``dist`` the distance field it came from.
     Beam skipping (only when asked, i.e. once the filter has converged): a beam is used only when
     more than ``beam_skip_threshold`` of the particles see its end point within
     ``beam_skip_distance`` of an obstacle; if too many beams would be skipped, all are used.
     """
-    h, w = dist.shape
+    h, w = table.shape
     n = particles.shape[0]
-    nb = ranges.shape[0]
-    z_hit_denom = 2.0 * sigma_hit * sigma_hit
-    z_rand_mult = z_rand / range_max
-    max_dist_prob = math.exp(-(max_occ_dist * max_occ_dist) / z_hit_denom)
-    zs = np.empty((n, nb), np.float64)  # distance per particle and beam; -1 = off map, -2 = skip
+    nb = 0
+    for j in range(ranges.shape[0]):
+        if ranges[j] < range_max:
+            nb += 1
+    rx = np.empty(nb)
+    ry = np.empty(nb)
+    k = 0
+    for j in range(ranges.shape[0]):
+        r = ranges[j]
+        if r < range_max:
+            a = mount[2] + bearings[j]
+            rx[k] = r * math.cos(a)
+            ry[k] = r * math.sin(a)
+            k += 1
+    ox, oy, gc, gs = grid[0], grid[1], grid[2], grid[3]
+    inv_res = 1.0 / grid[4]
+    cells = np.empty((n, nb), np.int64)  # flat cell index per particle and beam, -1 off the map
     for i in range(n):
         pt = particles[i, 2]
         c = math.cos(pt)
         s = math.sin(pt)
-        lx = particles[i, 0] + c * mount[0] - s * mount[1]
-        ly = particles[i, 1] + s * mount[0] + c * mount[1]
-        lt = pt + mount[2]
+        dx = particles[i, 0] + c * mount[0] - s * mount[1] - ox
+        dy = particles[i, 1] + s * mount[0] + c * mount[1] - oy
+        lx0 = (gc * dx + gs * dy) * inv_res
+        ly0 = (-gs * dx + gc * dy) * inv_res
+        cc = (gc * c + gs * s) * inv_res
+        ss = (gc * s - gs * c) * inv_res
         for j in range(nb):
-            r = ranges[j]
-            if not (r < range_max):
-                zs[i, j] = -2.0
-                continue
-            a = lt + bearings[j]
-            mx, my = _cell(lx + r * math.cos(a), ly + r * math.sin(a), grid, h, w)
-            zs[i, j] = -1.0 if mx < 0 else dist[my, mx]
+            gx = lx0 + cc * rx[j] - ss * ry[j]
+            gy = ly0 + ss * rx[j] + cc * ry[j]
+            if gx >= 0.0 and gy >= 0.0 and gx < w and gy < h:
+                cells[i, j] = int(gy) * w + int(gx)
+            else:
+                cells[i, j] = -1
     use = np.ones(nb, np.bool_)
-    if do_beamskip:
-        valid = 0
+    if do_beamskip and nb > 0:
+        flat_dist = dist.ravel()
         skipped = 0
         for j in range(nb):
-            if zs[0, j] == -2.0:
-                continue
-            valid += 1
             agree = 0
             for i in range(n):
-                if zs[i, j] >= 0.0 and zs[i, j] < beam_skip_distance:
+                cell = cells[i, j]
+                if cell >= 0 and flat_dist[cell] < beam_skip_distance:
                     agree += 1
             if agree / n <= beam_skip_threshold:
                 use[j] = False
                 skipped += 1
-        if skipped >= valid * beam_skip_error_threshold:
+        if skipped >= nb * beam_skip_error_threshold:
             use[:] = True  # most beams disagree: the filter may be wrong, trust the scan
+    flat = table.ravel()
+    log_off = math.log(off_map_pz)
     total = 0.0
     for i in range(n):
         log_p = 0.0
         for j in range(nb):
-            z = zs[i, j]
-            if z == -2.0 or not use[j]:
+            if not use[j]:
                 continue
-            if z < 0.0:
-                pz = z_hit * max_dist_prob
-            else:
-                pz = z_hit * math.exp(-(z * z) / z_hit_denom)
-            log_p += math.log(pz + z_rand_mult)
+            cell = cells[i, j]
+            log_p += log_off if cell < 0 else math.log(flat[cell])
         weights[i] *= math.exp(log_p)
         total += weights[i]
     return total
