@@ -200,3 +200,29 @@ def test_driver_on_a_pty_and_replug(clean_registry, kind) -> None:
         n = d.delivered
         assert wait_until(lambda: d.delivered > n + 5, 2.0)
         check(d.imu(), clock, 0.05)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.tuples(angles, angles, angles), st.tuples(small, small, small), st.data())
+def test_razor_corruption_outside_digits_is_rejected(ypr, gyro, data) -> None:
+    """No checksum on a Razor line: a flipped digit is left to the driver's gyro gate; every
+    corruption of the line's structure (prefix, separators, decimal points) is refused."""
+    raw = rc.RazorSample(*ypr, (1.0, 2.0, -256.0), gyro).line()
+    i = data.draw(st.integers(0, len(raw) - 1))
+    b = data.draw(st.integers(0, 255).filter(lambda x: x != raw[i]))
+    digit_like = b"0123456789-"
+    if (raw[i] in digit_like and b in digit_like) or b in b"\r\n" or raw[i] in b"\r\n":
+        return
+    lines = LineDecoder().feed(raw[:i] + bytes([b]) + raw[i + 1:])
+    for line in lines:
+        with pytest.raises(rc.RazorError):
+            rc.parse_line(line)
+
+
+def test_razor_driver_gate_refuses_a_yaw_jump() -> None:
+    d = RazorDriver("sim://razor", WallClock())       # not started: only the parser is used
+    ok = "#YPRAG=10.00,0.00,0.00,0.00,0.00,-256.00,0.00,0.00,-0.50"
+    assert d._parse(ok, 1.0).yaw == pytest.approx(math.radians(-10.0))
+    with pytest.raises(rc.RazorError, match="yaw jumped"):
+        d._parse(ok.replace("10.00", "40.00", 1), 1.02)   # 30 deg in 20 ms at 0.5 rad/s
+    assert d._parse(ok.replace("10.00", "10.50", 1), 1.04) is not None
