@@ -450,3 +450,14 @@ def test_a_parameter_change_reinflates_everything_at_the_next_update():
     assert previous == {"inflation_radius": 0.2}
     cm.update_map(Pose2D(0.6, 0.35, 0.0))
     assert _cell_cost(cm, 0.55, 0.35) == compute_cost(3, 0.1, cm.inscribed_radius, 10.0) > 0
+
+
+def test_nav2_style_plugin_types_inside_the_namespaces():
+    cm = LayeredCostmap.from_params({
+        "use_sim_time": True, "rolling_window": True, "width": 3.0, "height": 3.0,
+        "plugins": ["voxel", "inflater"],
+        "voxel": {"plugin": "nav2_costmap_2d::VoxelLayer", "z_voxels": 16},
+        "inflater": {"plugin": "nav2_costmap_2d::InflationLayer", "cost_scaling_factor": 3.0}},
+        name="local_costmap")
+    assert [type(l).__name__ for l in cm.layers] == ["VoxelLayer", "InflationLayer"]
+    assert cm.layer("voxel").params.z_voxels == 16

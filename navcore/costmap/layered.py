@@ -45,6 +45,7 @@ COSTMAP_PARAMS = (
     Param("track_unknown_space", False, bool, "unseen cells are NO_INFORMATION, else FREE"),
     Param("always_send_full_costmap", False, bool, "kept for config compatibility"),
     Param("footprint_topic", "footprint", str, "kept for config compatibility"),
+    Param("use_sim_time", False, bool, "kept for config compatibility (time is the Clock's)"),
     # found here by the layers searching up the namespace
     Param("obstacle_range", 2.5, float, "default marking range (m) of obstacle sources", min=0.0),
     Param("raytrace_range", 3.0, float, "default clearing range (m) of obstacle sources",
@@ -202,6 +203,8 @@ class LayeredCostmap:
             ns = dict(ns)
             if p.get("enabled") is not None:
                 ns.setdefault("enabled", p["enabled"])
+            if "plugin" in ns:  # Nav2 puts the type inside the layer's namespace
+                p["type"] = p["type"] or ns.pop("plugin")
             namespaces[p["name"]] = ns
         fp_raw = raw.pop("footprint", None)
         cp = Parameters(COSTMAP_PARAMS, raw, where=name)
