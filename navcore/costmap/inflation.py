@@ -137,13 +137,24 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
         j = 0
         lo = max(x0, sx0 + v[0] - r)
         hi = min(xn, sx0 + v[k] + r + 1)
-        for x in range(lo, hi):
+        x = lo
+        while x < hi:
             xo = x - sx0
             while z[j + 1] < xo:
                 j += 1
             dx = xo - v[j]
             d2 = dx * dx + fv[j]
             if d2 > r2:
+                # beyond the radius of every site; if even the horizontal distance to the
+                # nearest site is, skip to where the next site comes within the radius
+                if dx > r:
+                    if j == k:
+                        break
+                    x = max(x + 1, sx0 + v[j + 1] - r)
+                elif dx < -r:
+                    x = max(x + 1, sx0 + v[j] - r)
+                else:
+                    x += 1
                 continue
             cost = table[d2]
             old = row[x]
@@ -155,6 +166,7 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
                     row[x] = cost
             elif cost > old:
                 row[x] = cost
+            x += 1
 
 
 _POOL: ThreadPoolExecutor | None = None
