@@ -2,5 +2,6 @@
 
 from navcore.localization.amcl import Amcl
 from navcore.localization.amcl_params import AMCL_PARAMS
+from navcore.localization.ekf import EKF_PARAMS, Ekf
 
-__all__ = ["Amcl", "AMCL_PARAMS"]
+__all__ = ["Amcl", "AMCL_PARAMS", "Ekf", "EKF_PARAMS"]
