@@ -3,9 +3,12 @@
 Maps: ``navcore.synthetic_maps.office_map(n)`` for n = 1000, 2000, 4000 (0.05 m cells), lethal
 where occupied, unknown where unknown, inflated as in the C++ baselines of
 ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, cost_scaling_factor
-10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map between the two free cells
-farthest apart along the diagonal. Each figure is the median of several full ``make_plan`` calls
-after a warm-up (numba compiled and cached). ``--json`` prints one JSON object as the last line.
+10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map
+between the two free cells farthest apart along the diagonal. Each figure is the median of several
+full ``make_plan`` calls after a warm-up (numba compiled and cached). ``--json`` prints one JSON
+object as the last line. ``global_planner_astar_grid`` is ``use_dijkstra: false`` with
+``use_grid_path: true``; its C++ figure is ROS's greedy single-assignment A*, which is not
+least-cost (ours is a real A*, see navcore/planners/astar.py).
 
     python bench/bench_planners.py [--json] [--sizes 1000 2000 4000] [--repeat 5]
 """
@@ -33,7 +36,8 @@ CPP_MS = {"navfn": {1000: 29.9, 2000: 134.0, 4000: 701.0},
           "global_planner_astar_grid": {1000: 1.3, 2000: 4.7, 4000: 36.0}}
 
 
-def costmap_from_grid(data: np.ndarray, resolution: float, origin: tuple[float, float]) -> Costmap2D:
+def costmap_from_grid(data: np.ndarray, resolution: float, origin: tuple[float, float]
+                      ) -> Costmap2D:
     """Lethal where occupied, unknown where -1, inflated (inscribed 0.2, radius 0.55, csf 10)."""
     cm = Costmap2D(data.shape[1], data.shape[0], resolution, origin[0], origin[1])
     cm.costs[data >= 65] = 254

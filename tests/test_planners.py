@@ -193,7 +193,8 @@ def test_quadratic_wavefront_matches_plain_update_in_a_corridor() -> None:
     cm = Costmap2D(40, 3, RES)
     cm.costs[:] = 254
     cm.costs[1, 1:39] = 10
-    r = GlobalPlanner(cm, {"old_navfn_behavior": True}).make_plan(centre(cm, 2, 1), centre(cm, 30, 1))
+    gp = GlobalPlanner(cm, {"old_navfn_behavior": True})
+    r = gp.make_plan(centre(cm, 2, 1), centre(cm, 30, 1))
     assert r.ok
     per_cell = 10 * 3.0 + 50
     np.testing.assert_allclose(r.potential[1, 2:31], per_cell * np.arange(29), rtol=1e-6)
@@ -370,3 +371,19 @@ def test_carrot_planner_walks_back_to_the_first_free_pose() -> None:
 def test_plan_result_failure() -> None:
     r = PlanResult.failure("no_path")
     assert (r.ok, r.path, r.reason, r.potential) == (False, None, "no_path", None)
+
+
+def test_carrot_planner_with_the_costmap_footprint_cost() -> None:
+    from navcore.planners import costmap_footprint_cost
+
+    cm = Costmap2D(100, 100, 0.05)
+    cm.costs[:, 60:] = 254  # a wall from x = 3.0 m on
+    square = np.array([[0.2, 0.2], [0.2, -0.2], [-0.2, -0.2], [-0.2, 0.2]])
+    cp = make_planner("carrot_planner/CarrotPlanner", cm,
+                      footprint_cost=costmap_footprint_cost(cm, square))
+    r = cp.make_plan(Pose2D(1.0, 2.5), Pose2D(3.5, 2.5))
+    assert r.ok
+    x = r.path.poses[1, 0]
+    assert 2.7 < x < 2.81  # the 0.4 m square's front edge stops short of the wall
+    cm.costs[:, 40:] = 254  # the costmap changes: the planner reads it at call time
+    assert cp.make_plan(Pose2D(1.0, 2.5), Pose2D(3.5, 2.5)).path.poses[1, 0] < 1.8

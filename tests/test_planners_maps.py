@@ -130,7 +130,7 @@ def components(passable: np.ndarray) -> np.ndarray:
 
 
 def free_cells(cm: Costmap2D) -> np.ndarray:
-    """Cells whose 5x5 neighbourhood is all FREE (so global_planner's 2x2 seed stays in free space)."""
+    """Cells whose 5x5 neighbourhood is all FREE (global_planner's 2x2 seed stays in free space)."""
     free = cm.costs == 0
     ok = free.copy()
     for dy in range(-2, 3):

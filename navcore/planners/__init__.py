@@ -11,13 +11,13 @@ from typing import Callable
 
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.params import suggest
-from navcore.planners.carrot_planner import CarrotPlanner
+from navcore.planners.carrot_planner import CarrotPlanner, costmap_footprint_cost
 from navcore.planners.global_planner import GlobalPlanner
 from navcore.planners.navfn import NavFn
 from navcore.planners.result import REASONS, PlanResult
 
 __all__ = ["CarrotPlanner", "GlobalPlanner", "NavFn", "PlanResult", "REASONS", "PLANNER_KINDS",
-           "make_planner"]
+           "costmap_footprint_cost", "make_planner"]
 
 PLANNER_KINDS = ("navfn/NavfnROS", "global_planner/GlobalPlanner", "carrot_planner/CarrotPlanner")
 
@@ -27,7 +27,8 @@ def make_planner(kind: str, costmap: Costmap2D, params: dict | None = None,
                  ) -> NavFn | GlobalPlanner | CarrotPlanner:
     """The planner named by a ROS ``base_global_planner`` value, with its parameter namespace.
 
-    ``footprint_cost`` is needed by (only) the carrot planner.
+    ``footprint_cost(x, y, theta) -> int`` is needed by (only) the carrot planner;
+    ``costmap_footprint_cost(costmap, footprint)`` makes one.
     """
     if kind == "navfn/NavfnROS":
         return NavFn(costmap, params)
@@ -37,5 +38,5 @@ def make_planner(kind: str, costmap: Costmap2D, params: dict | None = None,
         if footprint_cost is None:
             raise ValueError("make_planner: carrot_planner/CarrotPlanner needs footprint_cost")
         return CarrotPlanner(costmap, footprint_cost, params)
-    raise ValueError(f"make_planner: unknown base_global_planner {kind!r}{suggest(kind, PLANNER_KINDS)}"
-                     f"; known: {', '.join(PLANNER_KINDS)}")
+    raise ValueError(f"make_planner: unknown base_global_planner {kind!r}"
+                     f"{suggest(kind, PLANNER_KINDS)}; known: {', '.join(PLANNER_KINDS)}")

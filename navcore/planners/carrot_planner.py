@@ -26,6 +26,20 @@ from navcore.types import Path, Pose2D, angle_diff, normalize_angle
 FootprintCost = Callable[[float, float, float], int]
 
 
+def costmap_footprint_cost(costmap: Costmap2D, footprint: np.ndarray) -> FootprintCost:
+    """``footprint_cost(x, y, theta)`` over ``costmap`` as it is at call time (the costmap's
+    ``navcore.costmap.footprint.footprint_cost``; -1 off the map)."""
+    from navcore.costmap.footprint import footprint_cost
+
+    fp = np.ascontiguousarray(footprint, dtype=np.float64)
+
+    def cost(x: float, y: float, theta: float) -> int:
+        return int(footprint_cost(costmap.costs, costmap.origin_x, costmap.origin_y,
+                                  costmap.resolution, fp, float(x), float(y), float(theta)))
+
+    return cost
+
+
 class CarrotPlanner:
     """Straight-line planner; ``footprint_cost(x, y, theta)`` gives the max cost under the
     footprint at that pose (-1 off the map). ``make_plan`` never raises."""

@@ -7,10 +7,11 @@ The cost of a cell is ``min(cost * cost_factor + neutral_cost, lethal_cost - 1)`
 wave is seeded over the 2x2 block around the start, the 5x5 around the goal is given potential
 (``clearEndpoint``) and world points are ``origin + (cell + 0.5) * res``.
 
-Differences from the C++, on purpose: A* is an exact A* over the same potential (``astar``; the
+Differences from the C++, on purpose: A* is a real A* over the same potential (``astar``; the
 C++ assigns a cell once and never improves it, so its paths are not least-cost), Dijkstra runs
-until the goal's potential is final, no queue cap, buffers reused, the shared costmap is never written
-(``outline_map`` and the robot-cell clearing act on the planner's view only), and
+until the goal's potential is final, no queue cap, buffers reused, the shared costmap is never
+written (``outline_map`` and the robot-cell clearing act on the planner's view only), the path
+ends with one goal pose (the C++ repeats the goal's position), and
 ``default_tolerance`` is honoured (the C++ declares it and ignores it).
 """
 
@@ -168,12 +169,12 @@ class GlobalPlanner:
                 pots_a, target, p.use_quadratic, hkind, hscale)
         publish = p.publish_potential or p.visualize_potential
         potential = ws.pot.reshape(ny, nx) if publish else None
-        passable = lut[cm.costs] < lethal
         goal_pose = goal
         if not reached:
             best = search_tolerance(cm, ws.pot, goal, p.default_tolerance) \
                 if p.default_tolerance > 0.0 else None
             if best is None:
+                passable = lut[cm.costs] < lethal
                 return PlanResult.failure(diagnose(passable, gc, self.last_updates), potential)
             goal_pose = Pose2D(best[0], best[1], goal.theta)
             g = self._to_map(goal_pose)

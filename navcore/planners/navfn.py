@@ -29,7 +29,8 @@ COST_OBS_ROS = 253
 COST_UNKNOWN_ROS = 255
 
 NAVFN_PARAMS = (
-    Param("allow_unknown", True, bool, "plan through unknown cells (cost 253, the dearest passable)"),
+    Param("allow_unknown", True, bool,
+          "plan through unknown cells (cost 253, the dearest passable)"),
     Param("default_tolerance", 0.0, float, "m: accept the reachable point closest to the goal "
           "within this square half-side when the goal itself is not reachable", min=0.0),
     Param("visualize_potential", False, bool, "return the potential grid with each plan"),

@@ -52,7 +52,7 @@ def apply_orientation(poses: np.ndarray, start: Pose2D, mode: int, window: int) 
         poses[0, 2] = start.theta
         _interpolate(poses, 0, n - 1)
     elif mode == FORWARD_THEN_INTERPOLATE and n >= 3:
-        # keep the forward headings up to where the path stops turning, then turn smoothly to the goal
+        # keep forward headings up to where the path stops turning, then turn smoothly to the goal
         i = n - 3
         last = float(poses[i, 2])
         while i > 0 and abs(angle_diff(float(poses[i - 1, 2]), last)) <= 0.35:

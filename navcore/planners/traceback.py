@@ -128,7 +128,8 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
         xs[npath] = px
         ys[npath] = py
         npath += 1
-        oscillating = npath > 2 and xs[npath - 1] == xs[npath - 3] and ys[npath - 1] == ys[npath - 3]
+        oscillating = (npath > 2 and xs[npath - 1] == xs[npath - 3]
+                       and ys[npath - 1] == ys[npath - 3])
         up = stc + nx
         dn = stc - nx
         if (pot[stc] >= POT_HIGH or pot[stc + 1] >= POT_HIGH or pot[stc - 1] >= POT_HIGH

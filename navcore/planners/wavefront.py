@@ -55,8 +55,8 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: float, nx: int, ny: int,
-              pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
+def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: float, nx: int,
+              ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
               buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
               max_cycles: int, quadratic: bool) -> tuple:
