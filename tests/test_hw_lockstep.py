@@ -47,7 +47,7 @@ def run(tag: str, faults: str = "") -> tuple[list, KobukiEmulator]:
                 continue
             ahead = float(np.min(scan.ranges[np.abs(scan.angles()) < 0.1]))
             kob.send(Twist(0.3, 0.0, 0.0) if ahead > 1.0 else Twist())
-            trace.append((round(clock.now(), 3), odo.pose.x, ahead, kob.commanded()))
+            trace.append((round(clock.now(), 3), odo.pose.x, ahead, kob.commanded(), scan.stamp))
     finally:
         kob.close()
         urg.close()
@@ -65,6 +65,11 @@ def test_closed_loop_stops_before_the_wall_and_is_deterministic() -> None:
     assert a[-1][2] == pytest.approx(WALL_X - x_true, abs=0.01)
     moving = [t for t in a if t[3] == (300, 0)]
     assert moving and moving[0][0] < 1.0                    # it did drive first
+    # scan stamps: the sensor's timer mapped onto the clock, one rotation (0.1 s) apart, and
+    # each at least a sweep (steps 0..725, 70.9 ms) before the scan was read
+    stamps = sorted({t[4] for t in a})
+    assert np.allclose(np.diff(stamps), 0.1, atol=1.5e-3)
+    assert all(t[4] <= t[0] - 726 * 60 / 600 / 1024 + 1e-9 for t in a)
 
 
 def test_closed_loop_survives_a_noisy_laser_line() -> None:

@@ -49,6 +49,8 @@ class Urg04lxDriver(SerialDriver):
         self._request: scip.ScanRequest | None = None
         self._scan: LaserScan | None = None
         self._last_ts = -1
+        self._sensor_ms = 0          # the sensor's 24-bit timer, unwrapped
+        self._offset: float | None = None
         self.stale = 0
 
     def scan(self) -> LaserScan | None:
@@ -101,11 +103,26 @@ class Urg04lxDriver(SerialDriver):
         self._request = scip.ScanRequest.parse(line.strip().decode())
         self._decoder.reset()
         self._last_ts = -1
+        self._offset = None          # RS reset the sensor's timer
 
     def _on_close(self, port: serial.SerialBase) -> None:
         port.write(b"QT\n")            # stop streaming and switch the laser off
 
     # -- streaming ---------------------------------------------------------------------------
+    def _stamp(self, req: scip.ScanRequest) -> float:
+        """Clock time of step 0, from the sensor's timer plus an offset: the smallest seen
+        (arrival - sensor time - sweep to the last requested step) is the least-delayed scan,
+        so it is taken at once; larger ones pull the offset up only slowly (clock drift)."""
+        g = self.geometry
+        sweep = (req.end + 1) * 60.0 / (g.scan_rpm * g.ares)
+        sensor = self._sensor_ms / 1000.0
+        cand = self.clock.now() - sensor - sweep
+        if self._offset is None or cand < self._offset:
+            self._offset = cand
+        else:
+            self._offset += 0.001 * (cand - self._offset)
+        return sensor + self._offset + self.params.time_offset
+
     def _on_bytes(self, data: bytes) -> None:
         before = self._decoder.errors
         for rep in self._decoder.feed(data):
@@ -122,8 +139,11 @@ class Urg04lxDriver(SerialDriver):
                     self.stale += 1
                     self._reject(f"stale scan: time stamp {sd.timestamp_ms} after {self._last_ts}")
                     continue
+                self._sensor_ms += d
+            else:
+                self._sensor_ms = sd.timestamp_ms
             self._last_ts = sd.timestamp_ms
-            msg = scip.to_laser_scan(sd, self.geometry, self.clock.now() + self.params.time_offset,
+            msg = scip.to_laser_scan(sd, self.geometry, self._stamp(sd.request),
                                      self.params.frame_id)
             with self._lock:
                 self._scan = msg

@@ -175,10 +175,13 @@ class Urg04lxEmulator(Emulator):
         self.job = req
         self.job_echo = line
         self._remaining = req.count
-        self._next_scan = now + 0.1
+        self._next_scan = now                    # step 0 of the first sweep
         self._reply(line, "00")
 
-    def _scan_lines(self, req: scip.ScanRequest, now: float) -> list[bytes]:
+    def _scan_lines(self, req: scip.ScanRequest, now: float,
+                    step0: float | None = None) -> list[bytes]:
+        """Lines of one scan measured around ``now`` whose step 0 was at ``step0`` (default: one
+        rotation ago, the latest complete scan a GD/GS returns)."""
         steps = np.arange(STEPS)
         angles = (steps - GEOM.afrt) * (2.0 * np.pi / GEOM.ares)
         mm = np.asarray(self.ranges_source(now, angles), dtype=np.float64) * 1000.0
@@ -193,20 +196,24 @@ class Urg04lxEmulator(Emulator):
             grp[grp < GEOM.dmin] = np.inf         # cluster value = minimum valid value
             m = grp.min(axis=1)
             sel = np.where(np.isfinite(m), m, 0).astype(np.int64)
-        ts = self.timer_ms(now - 0.1)            # the stamp belongs to step 0 of the scan
+        ts = self.timer_ms(now - 0.1 if step0 is None else step0)   # stamp of step 0
         self._scans += 1
         if self.stale_every and self._scans % self.stale_every == 0 and self._last_ts >= 0:
             ts = self._last_ts
         self._last_ts = ts
         return scip.encode_scan_lines(ts, sel, req.width)
 
+    def sweep_time(self, req: scip.ScanRequest) -> float:
+        """From step 0 to the last requested step: the scan is sent when that step is done."""
+        return (req.end + 1) * 60.0 / (GEOM.scan_rpm * GEOM.ares)
+
     def advance(self, now: float) -> None:
-        while self.job is not None and now >= self._next_scan:
-            t = self._next_scan
+        while self.job is not None and now >= self._next_scan + self.sweep_time(self.job):
+            t = self._next_scan                   # time of step 0 of this sweep
             req = self.job
             left = max(self._remaining - 1, 0) if req.count else 0
             echo = self.job_echo[:13] + f"{left:02d}".encode() + self.job_echo[15:]
-            self.emit(scip.frame_reply(echo, b"99", self._scan_lines(req, t)))
+            self.emit(scip.frame_reply(echo, b"99", self._scan_lines(req, t, t)))
             self._next_scan = t + 0.1 * (req.interval + 1)
             if req.count:
                 self._remaining -= 1
