@@ -178,6 +178,7 @@ def test_streaming_odometry_battery_events_over_sim_url(clean_registry) -> None:
         assert odo.pose.x == pytest.approx(x, abs=0.01) and odo.pose.y == pytest.approx(y, abs=0.01)
         assert odo.pose.theta == pytest.approx(th, abs=0.01)
         assert odo.twist.vx == pytest.approx(0.2, abs=0.02)
+        assert odo.pose_covariance[0, 0] == 0.1 and odo.pose_covariance[2, 2] == 0.05
         bat = drv.battery()
         assert bat.voltage == pytest.approx(15.0) and bat.percentage == pytest.approx(1.8 / 3.3)
         assert drv.events() == drv.events().__class__()

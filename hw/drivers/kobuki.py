@@ -54,6 +54,9 @@ class KobukiDriver(SerialDriver):
         self._sent: tuple[int, int] | None = None
         self._sent_at = -np.inf
         self.versions: dict[str, tuple[int, ...]] = {}
+        # kobuki_node's fixed odometry covariances: 0.1 on x and y, yaw 0.05 with the gyro
+        # heading and 0.2 from the encoders alone
+        self._cov = np.diag([0.1, 0.1, 0.05 if self.params.use_imu_heading else 0.2])
         self.feedback: kc.Feedback | None = None
 
     # -- Base interface ------------------------------------------------------------------------
@@ -133,8 +136,8 @@ class KobukiDriver(SerialDriver):
                 self.versions[key] = tuple(d) if ident != kc.UDID else \
                     tuple(int.from_bytes(d[i:i + 4], "little") for i in (0, 4, 8))
         with self._lock:
-            self._odom = Odometry(now, pose, twist, frame_id=p.odom_frame,
-                                  child_frame_id=p.base_frame)
+            self._odom = Odometry(now, pose, twist, self._cov, self._cov,
+                                  frame_id=p.odom_frame, child_frame_id=p.base_frame)
             self._battery = BatteryState(v, pct, bool(b.charger & 0x04))
             self._events = BaseEvents(bool(b.bumper), bool(b.cliff), bool(b.wheel_drop))
         self.delivered += 1

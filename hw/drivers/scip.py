@@ -101,11 +101,10 @@ class ScipReply:
         return d
 
 
-def frame_reply(echo: bytes, status: bytes, data_lines: list[bytes] = (), *,
-                status_sum: bool = True) -> bytes:
+def frame_reply(echo: bytes, status: bytes, data_lines: list[bytes] = ()) -> bytes:
     """Build reply bytes (emulator side). ``data_lines`` already carry their sums."""
-    st = with_sum(status) if status_sum else status
-    return echo + b"\n" + st + b"\n" + b"".join(ln + b"\n" for ln in data_lines) + b"\n"
+    return echo + b"\n" + with_sum(status) + b"\n" + b"".join(ln + b"\n" for ln in data_lines) \
+        + b"\n"
 
 
 def encode_scan_lines(timestamp_ms: int, values: np.ndarray, width: int) -> list[bytes]:
