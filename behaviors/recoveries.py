@@ -77,6 +77,33 @@ class Recovery(Leaf):
                 return p, cost
         return None
 
+    def pursue(self, pose: Pose2D, trail: list[Pose2D], index: int, target: Pose2D,
+               speed: float, lookahead: float, w_max: float
+               ) -> tuple[Twist | None, int, tuple[Pose2D, int] | None]:
+        """One pure-pursuit step along ``trail`` toward ``target``: forwards when the aim point
+        is ahead, backwards when it is behind. Returns (command or None if blocked, the new
+        trail index, the blocking pose and cost). Footprint-checked over
+        ``simulate_ahead_time`` unless ``disable_collision_checks``."""
+        while index < len(trail) - 1 and pose.distance_to(trail[index]) < lookahead:
+            index += 1
+        aim = trail[index].relative_to(pose)
+        v = -speed if aim.x <= 0.0 else speed
+        v = math.copysign(min(abs(v), pose.distance_to(target) / self.control_period), v)
+        l2 = max(aim.x * aim.x + aim.y * aim.y, 1e-6)
+        w = max(-w_max, min(w_max, v * 2.0 * aim.y / l2))
+        if not self.get_input("disable_collision_checks"):
+            horizon = self.get_input("simulate_ahead_time")
+            n = max(1, int(math.ceil(abs(v) * horizon / 0.05)))
+            dt = horizon / n
+            poses, p = [], pose
+            for _ in range(n):
+                p = p.compose(Pose2D(v * dt, 0.0, w * dt))
+                poses.append(p)
+            hit = self.first_collision(poses, pose)
+            if hit is not None:
+                return None, index, hit
+        return Twist(v, 0.0, w), index, None
+
     def start_progress_check(self, pose: Pose2D) -> None:
         self._anchor, self._anchor_t = pose, self.clock.now()
 
@@ -379,8 +406,11 @@ class TemporaryGoal(Recovery):
     Candidates lie on rings from ``min_distance`` to ``search_radius`` metres, facing away from
     the robot; those whose footprint cost is below the inscribed cost are tried from the most
     open (lowest cost) on, at most ``max_plans_per_tick`` planner calls per tick, until one has a
-    plan. The controller then follows that plan. SUCCESS when it reports the goal reached (or
-    the robot is within ``xy_goal_tolerance``). FAILURE: NO_FREE_POSE, COLLISION_AHEAD (the
+    plan; among equally open ones, those needing the least turn (ahead or behind) first. The
+    controller then follows that plan; if it finds no valid command (a footprint already in
+    inflated cost), the node follows the plan itself by pure pursuit at ``escape_speed``,
+    footprint-checked. SUCCESS when the goal is reported reached (or the robot is within
+    ``xy_goal_tolerance``). FAILURE: NO_FREE_POSE, COLLISION_AHEAD (the
     controller found no valid command), TIMEOUT (``time_allowance`` spent, or no progress of
     ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
     the chosen pose.
@@ -397,6 +427,13 @@ class TemporaryGoal(Recovery):
         "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
         "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
         "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
+        "escape_speed": PortInformation(float, False,
+                                        "m/s of the own pursuit used when the controller finds "
+                                        "no valid command (0 = never)", 0.1),
+        "lookahead": PortInformation(float, False, "own pursuit look-ahead, m", 0.4),
+        "max_rotational_vel": PortInformation(float, False, "own pursuit, rad/s", 1.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
         "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
         "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
                                                    5.0),
@@ -426,9 +463,13 @@ class TemporaryGoal(Recovery):
                                  self.get_input("angular_samples")):
             cost = int(handle.footprint_cost(c.x, c.y, c.theta)) if handle is not None else 0
             if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
-                scored.append((cost, c.distance_to(pose), c))
-        scored.sort(key=lambda t: (t[0], t[1]))
-        return [c for _, _, c in scored]
+                # A differential drive reaches poses ahead or behind with gentle arcs, while a
+                # pose abeam needs a sharp turn that sweeps a corner into whatever is beside it.
+                bearing = abs(angle_diff(heading_to(pose, c), pose.theta))
+                turn = min(bearing, math.pi - bearing)
+                scored.append((cost // 32, round(turn, 3), c.distance_to(pose), c))
+        scored.sort(key=lambda t: t[:3])
+        return [t[3] for t in scored]
 
     def update(self) -> Status:
         pose = self.robot.pose()
@@ -457,6 +498,9 @@ class TemporaryGoal(Recovery):
             result = planner.make_plan(pose, cand)
             if result.ok and result.path is not None and len(result.path) > 0:
                 self._goal, self._controller = cand, controller
+                self._trail = [result.path.pose(i) for i in range(len(result.path))]
+                self._i = 0
+                self._own = False
                 controller.reset()
                 controller.set_plan(result.path)
                 self.start_progress_check(pose)
@@ -474,16 +518,29 @@ class TemporaryGoal(Recovery):
             self.stop_motion()
             self.report(BehaviorError.NONE, "reached the temporary goal")
             return Status.SUCCESS
-        if result.status.startswith("no_valid"):
-            self.stop_motion()
-            self.report(BehaviorError.COLLISION_AHEAD, f"controller: {result.status}")
-            return Status.FAILURE
         if self.no_progress(pose):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
             return Status.FAILURE
-        self.write("cmd_vel", result.cmd)
-        self.say(f"{pose.distance_to(self._goal):.2f} m to the temporary goal")
+        cmd = result.cmd
+        if result.status.startswith("no_valid") or self._own:
+            # The controller refuses to move from here (its footprint already touches inflated
+            # cost, say): follow the plan with our own footprint-checked pursuit, which may
+            # leave inscribed cost. Once chosen, keep it until the temporary goal.
+            speed = self.get_input("escape_speed")
+            own, self._i, hit = (self.pursue(pose, self._trail, self._i, self._goal, speed,
+                                             self.get_input("lookahead"),
+                                             self.get_input("max_rotational_vel"))
+                                 if speed > 0.0 else (None, self._i, None))
+            if own is None:
+                self.stop_motion()
+                why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
+                self.report(BehaviorError.COLLISION_AHEAD, f"controller: {result.status}; {why}")
+                return Status.FAILURE
+            self._own, cmd = True, own
+        self.write("cmd_vel", cmd)
+        self.say(f"{pose.distance_to(self._goal):.2f} m to the temporary goal"
+                 + (" (own pursuit)" if self._own else ""))
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
@@ -558,32 +615,16 @@ class BackOffToPreviousPose(Recovery):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "time out or no progress")
             return Status.FAILURE
-        # advance along the trail past points already within the look-ahead
-        look = self.get_input("lookahead")
-        while self._i < len(self._trail) - 1 and pose.distance_to(self._trail[self._i]) < look:
-            self._i += 1
-        aim = self._trail[self._i].relative_to(pose)
-        speed = self.get_input("speed")
-        v = -speed if aim.x <= 0.0 else speed
-        v = math.copysign(min(abs(v), pose.distance_to(target) / self.control_period), v)
-        l2 = max(aim.x * aim.x + aim.y * aim.y, 1e-6)
-        w_max = self.get_input("max_rotational_vel")
-        w = max(-w_max, min(w_max, v * 2.0 * aim.y / l2))
-        if not self.get_input("disable_collision_checks"):
-            horizon = self.get_input("simulate_ahead_time")
-            n = max(1, int(math.ceil(abs(v) * horizon / 0.05)))
-            dt = horizon / n
-            poses, p = [], pose
-            for _ in range(n):
-                p = p.compose(Pose2D(v * dt, 0.0, w * dt))
-                poses.append(p)
-            hit = self.first_collision(poses, pose)
-            if hit is not None:
-                self.stop_motion()
-                self.report(BehaviorError.COLLISION_AHEAD,
-                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m behind")
-                return Status.FAILURE
-        self.write("cmd_vel", Twist(v, 0.0, w))
+        cmd, self._i, hit = self.pursue(pose, self._trail, self._i, target,
+                                        self.get_input("speed"), self.get_input("lookahead"),
+                                        self.get_input("max_rotational_vel"))
+        if cmd is None:
+            assert hit is not None
+            self.stop_motion()
+            self.report(BehaviorError.COLLISION_AHEAD,
+                        f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
+            return Status.FAILURE
+        self.write("cmd_vel", cmd)
         self.say(f"{pose.distance_to(target):.2f} m to the previous pose "
                  f"(heading {heading_to(pose, target):.2f})")
         return Status.RUNNING

@@ -323,3 +323,20 @@ def test_motion_refuses_to_enter_inscribed_cost_but_may_leave_it():
     rig2 = Rig(World(local_costmap=tight))
     status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
     assert status == S and rig2.world.robot.pose().x == pytest.approx(-0.5, abs=0.01)
+
+
+def test_temporary_goal_prefers_gentle_arcs_and_drives_itself_when_the_controller_refuses():
+    # A wall along y = -0.3 (the robot's right side); the controller refuses to move at all.
+    wall = FakeCostmap(footprint=lambda x, y, t: 254 if y < -0.3 else (253 if y < -0.1 else 0))
+    w = World(local_costmap=wall, controller=ScriptedController(fail_always=True))
+    rig = Rig(w)
+    node = rig.node("TemporaryGoal", search_radius=1.0, min_distance=0.6)
+    status, _ = rig.run(node)
+    goal = rig.get("temporary_goal")
+    assert status == S, node.feedback_message
+    assert abs(goal.y) < 0.3 and abs(goal.x) >= 0.55          # ahead or behind, not abeam
+    assert w.robot.pose().distance_to(goal) <= 0.15
+    assert all(q.y >= -0.1 - 1e-9 for q in w.robot.trajectory)   # never into the wall's band
+    refuse = Rig(World(controller=ScriptedController(fail_always=True)))
+    status, _ = refuse.run(refuse.node("TemporaryGoal", escape_speed=0.0))
+    assert status == F and refuse.get("temporary_goal_error_code") == BehaviorError.COLLISION_AHEAD
