@@ -193,7 +193,8 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     au, av = _vertex(footprint, n - 1, x, y, c, s, origin_x, origin_y, inv)
     bu, bv = _vertex(footprint, 0, x, y, c, s, origin_x, origin_y, inv)
     for k in range(n):
-        cu, cv = _vertex(footprint, (k + 1) % n, x, y, c, s, origin_x, origin_y, inv)
+        cu, cv = _vertex(footprint, k + 1 if k + 1 < n else 0, x, y, c, s, origin_x, origin_y,
+                         inv)
         cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
         if cross != 0.0:  # convex iff every turn has one sign
             if turn == 0.0:
