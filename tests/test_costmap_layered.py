@@ -368,6 +368,7 @@ def test_ros_parameter_yaml_means_the_same_pre_hydro_and_with_plugins():
     ({"plugins": ["static_layer"]}, "static layer needs a map"),
     ({"plugins": ["obstacle_layer"], "footprint": [[0, 0], [1, 1]]}, "at least 3 points"),
     ({"plugins": "obstacle_layer"}, "'plugins' must be a list"),
+    ({"plugins": ["obstacle_layer"], "observation_sources": "scan"}, "belongs in an obstacle"),
 ])
 def test_bad_parameters_are_errors_naming_them(params, match):
     with pytest.raises(ParameterError, match=match):

@@ -190,6 +190,11 @@ class LayeredCostmap:
                     warnings.append(f"{name}: '{k}' has no effect when 'plugins' is given "
                                     f"(as in costmap_2d); set it in the layer's namespace")
                     raw.pop(k)
+            for k in ("max_obstacle_height", "observation_sources") + _LEGACY_VOXEL:
+                if k in raw:
+                    raise ParameterError(
+                        f"{name}: parameter '{k}' belongs in an obstacle or voxel layer's "
+                        f"namespace when 'plugins' is given (e.g. obstacle_layer: {{{k}: ...}})")
         else:
             plugins, raw = _legacy_plugins(raw)
         namespaces = {}
@@ -339,7 +344,8 @@ class LayeredCostmap:
         if layer_names is None:
             return [l for l in self.layers if l.clearable]
         names = set(layer_names)
-        return [l for l in self.layers if getattr(l, "plugin_name", l.name) in names]
+        return [l for l in self.layers if getattr(l, "plugin_name", l.name) in names
+                and hasattr(l, "clear_area")]
 
     def _clear(self, x: float, y: float, reset_distance: float, invert: bool,
                layer_names: Iterable[str] | None) -> None:

@@ -385,9 +385,6 @@ class ObstacleLayer(CostmapLayer):
 
     # ------------------------------------------------------------ update
 
-    def on_footprint_changed(self, inscribed_radius: float, circumscribed_radius: float) -> None:
-        pass
-
     def reset(self) -> None:
         super().reset()
         for b in self.buffers.values():
