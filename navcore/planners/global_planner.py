@@ -27,7 +27,8 @@ from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.orientation import apply_orientation
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
-from navcore.planners.wavefront import POT_HIGH, Workspace, propagate, reset_buffers
+from navcore.planners.wavefront import (POT_HIGH, Workspace, kernel_tables, propagate,
+                                        reset_buffers)
 from navcore.types import Path, Pose2D
 
 GLOBAL_PLANNER_PARAMS = (
@@ -155,8 +156,8 @@ class GlobalPlanner:
         pots_a = np.array(seed_pots, np.float32)
         if p.use_dijkstra:
             reached, self.last_updates, _ = propagate(
-                costs, lut, np.floor(lut), float(lethal), nx, ny, ws.pot, ws.pending, ws.buf_a,
-                ws.buf_b, ws.buf_c, seeds_a, pots_a, np.array(pushes, np.int64), target,
+                costs, *kernel_tables(lut, lethal, True), nx, ny, ws.pot, ws.pending,
+                ws.buf_a, ws.buf_b, ws.buf_c, seeds_a, pots_a, np.array(pushes, np.int64), target,
                 float(lethal), float(2 * neutral), 2 * nx * ny, p.use_quadratic)
         else:
             if p.use_quadratic:

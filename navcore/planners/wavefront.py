@@ -55,15 +55,17 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: float, nx: int,
-              ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
+def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: np.ndarray,
+              nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
               buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
               max_cycles: int, quadratic: bool) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
-    ``costs`` is the flat uint8 costmap, ``lut[c]`` the cell cost (>= ``block``: impassable) and
-    ``lut_hf[c]`` the cost the update adds (global_planner truncates it to an integer).
+    ``costs`` is the flat uint8 costmap; ``lut[c]`` the cell cost, +inf where impassable (so the
+    push test ``old > new + cost / sqrt(2)`` also rejects impassable cells); ``lut_hf[c]`` the cost
+    the update adds (global_planner truncates it to an integer) and ``lut_inv[c]`` its reciprocal.
+    Use ``kernel_tables`` to make the three.
     ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 4 on the
     border. Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
     ``(reached, cell_updates, cycles)``.
@@ -79,13 +81,12 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
     nover = 0
     for i in range(push_cells.shape[0]):
         m = push_cells[i]
-        if 0 <= m < ns and pending[m] == 0 and lut[costs[m]] < block:
+        if 0 <= m < ns and pending[m] == 0 and lut[costs[m]] < np.inf:
             cur[ncur] = m
             ncur += 1
             pending[m] = 1
     t = np.float32(threshold)
     inc = np.float32(increment)
-    blk = np.float32(block)
     unx = np.uintp(nx)
     one = np.uintp(1)
     updates = 0
@@ -112,10 +113,8 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
                 # is then not queued a second time
                 pending[n] = 0
             cn = costs[n]
-            if lut[cn] >= blk:
-                continue
             updates += 1
-            hf = lut_hf[cn]
+            hf = lut_hf[cn]  # queued cells are passable: every push checks it
             l = pot[n - one]
             r = pot[n + one]
             u = pot[n - unx]
@@ -126,7 +125,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             if quadratic:
                 # navfn's planar-wave update, computed without branches (both sides, then select)
                 dc = abs(tc - ta0)
-                q = dc / hf
+                q = dc * lut_inv[cn]
                 pq = ta + hf * (_QA * q * q + _QB * q + _QC)
                 p = ta + hf if dc >= hf else pq
             else:
@@ -140,7 +139,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             m = n - one
             cm = lut[costs[m]]
             pq = np.intp(pending[m])
-            ok = np.intp(l > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            ok = np.intp(l > p + _INVSQRT2 * cm)
             okn = ok & tn & np.intp((pq & 5) == 0)
             oko = ok & (1 - tn) & np.intp(pq == 0)
             pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
@@ -151,7 +150,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             m = n + one
             cm = lut[costs[m]]
             pq = np.intp(pending[m])
-            ok = np.intp(r > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            ok = np.intp(r > p + _INVSQRT2 * cm)
             okn = ok & tn & np.intp((pq & 5) == 0)
             oko = ok & (1 - tn) & np.intp(pq == 0)
             pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
@@ -162,7 +161,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             m = n - unx
             cm = lut[costs[m]]
             pq = np.intp(pending[m])
-            ok = np.intp(u > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            ok = np.intp(u > p + _INVSQRT2 * cm)
             okn = ok & tn & np.intp((pq & 5) == 0)
             oko = ok & (1 - tn) & np.intp(pq == 0)
             pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
@@ -173,7 +172,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
             m = n + unx
             cm = lut[costs[m]]
             pq = np.intp(pending[m])
-            ok = np.intp(d > p + _INVSQRT2 * cm) & np.intp(cm < blk)
+            ok = np.intp(d > p + _INVSQRT2 * cm)
             okn = ok & tn & np.intp((pq & 5) == 0)
             oko = ok & (1 - tn) & np.intp(pq == 0)
             pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
@@ -203,6 +202,18 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, block: flo
     if not reached and pot[target] < POT_HIGH:
         reached = True
     return reached, updates, cycle
+
+
+def kernel_tables(lut: np.ndarray, block: float, truncate: bool) -> tuple:
+    """``(lut, lut_hf, lut_inv)`` for ``propagate`` from a planner's cost table (float32[256]):
+    impassable (>= block) becomes +inf, ``lut_hf`` is the added cost (truncated for
+    global_planner), ``lut_inv`` its reciprocal (1 where impassable, never read)."""
+    lut = np.asarray(lut, np.float32)
+    passable = lut < block
+    k = np.where(passable, lut, np.float32(np.inf)).astype(np.float32)
+    hf = (np.floor(lut) if truncate else lut).astype(np.float32)
+    inv = np.where(passable & (hf > 0), 1.0 / np.where(hf > 0, hf, 1.0), 1.0).astype(np.float32)
+    return k, hf, inv
 
 
 def reset_buffers(pot: np.ndarray, pending: np.ndarray, nx: int, ny: int) -> None:
