@@ -144,7 +144,7 @@ def bench_footprint(repeat: int) -> float:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="print a JSON line of the figures last")
-    ap.add_argument("--repeat", type=int, default=5, help="timed runs per figure (median)")
+    ap.add_argument("--repeat", type=int, default=5, help="timed runs per figure (best kept)")
     args = ap.parse_args(argv)
     figures: dict[str, float] = {}
     # the machine is shared: say how busy it was, since wall times scale with it
