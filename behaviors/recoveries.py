@@ -404,14 +404,14 @@ class TemporaryGoal(Recovery):
     """Get out of a tight spot: find a free, reachable pose near the robot and drive there.
 
     Candidates lie on rings from ``min_distance`` to ``search_radius`` metres, facing away from
-    the robot; those whose footprint cost is below the inscribed cost are tried from the most
-    open (lowest cost) on, at most ``max_plans_per_tick`` planner calls per tick, until one has a
-    plan; among equally open ones, those needing the least turn (ahead or behind) first. The
-    controller then follows that plan; if it finds no valid command (a footprint already in
-    inflated cost), the node follows the plan itself by pure pursuit at ``escape_speed``,
-    footprint-checked. SUCCESS when the goal is reported reached (or the robot is within
-    ``xy_goal_tolerance``). FAILURE: NO_FREE_POSE, COLLISION_AHEAD (the
-    controller found no valid command), TIMEOUT (``time_allowance`` spent, or no progress of
+    the robot. Those whose footprint cost is below the inscribed cost are ranked by openness
+    plus turn (cost/253 + turn/90 degrees, where a pose straight ahead or behind needs no turn)
+    and tried in that order, at most ``max_plans_per_tick`` planner calls per tick, until one
+    has a plan. The controller then follows the plan; if it finds no valid command (its
+    footprint already in inflated cost, say), the node drives there itself by pure pursuit at
+    ``escape_speed``, footprint-checked. SUCCESS when the goal is reported reached or the robot
+    is within ``xy_goal_tolerance``. FAILURE: NO_FREE_POSE, COLLISION_AHEAD (no valid command
+    and the own pursuit is blocked too), TIMEOUT (``time_allowance`` spent, or no progress of
     ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
     the chosen pose.
     """
@@ -467,9 +467,10 @@ class TemporaryGoal(Recovery):
                 # pose abeam needs a sharp turn that sweeps a corner into whatever is beside it.
                 bearing = abs(angle_diff(heading_to(pose, c), pose.theta))
                 turn = min(bearing, math.pi - bearing)
-                scored.append((cost // 32, round(turn, 3), c.distance_to(pose), c))
-        scored.sort(key=lambda t: t[:3])
-        return [t[3] for t in scored]
+                score = cost / INSCRIBED_INFLATED_OBSTACLE + turn / (0.5 * math.pi)
+                scored.append((round(score, 2), c.distance_to(pose), c))
+        scored.sort(key=lambda t: t[:2])
+        return [t[2] for t in scored]
 
     def update(self) -> Status:
         pose = self.robot.pose()
@@ -528,7 +529,9 @@ class TemporaryGoal(Recovery):
             # cost, say): follow the plan with our own footprint-checked pursuit, which may
             # leave inscribed cost. Once chosen, keep it until the temporary goal.
             speed = self.get_input("escape_speed")
-            own, self._i, hit = (self.pursue(pose, self._trail, self._i, self._goal, speed,
+            # Aim at the temporary goal itself: over these short distances the straight
+            # pursuit arc is the gentlest way there (the plan may start with a sharp turn).
+            own, self._i, hit = (self.pursue(pose, [self._goal], 0, self._goal, speed,
                                              self.get_input("lookahead"),
                                              self.get_input("max_rotational_vel"))
                                  if speed > 0.0 else (None, self._i, None))
