@@ -168,6 +168,7 @@ class Executive:
         for key in ("goal", "goals", "cmd_vel", "path"):
             self._bb.register_key(key, access=py_trees.common.Access.WRITE)
         self._bb.cmd_vel = None
+        self._cmd_key = f"{self.namespace}/cmd_vel"
         self._watcher = BlackboardWatcher(self.namespace)
         self._guard_nodes()
         kwargs = dict(self.components)
@@ -281,7 +282,8 @@ class Executive:
         except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
             self._error("executive", "sense", e)
 
-        self._bb.cmd_vel = None
+        storage = py_trees.blackboard.Blackboard.storage
+        storage[self._cmd_key] = None  # direct: the client's access checks cost more than a tick
         tick_ok = True
         try:
             self.tree.tick()
@@ -292,7 +294,9 @@ class Executive:
                 self.tree.interrupt()
             except Exception:  # noqa: BLE001
                 pass
-        requested = self._bb.cmd_vel if isinstance(self._bb.cmd_vel, Twist) else None
+        requested = storage.get(self._cmd_key)
+        if not isinstance(requested, Twist):
+            requested = None
         if not tick_ok:
             requested = None  # whatever was written before the fault is not trusted
 

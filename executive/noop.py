@@ -120,9 +120,13 @@ class _Laser:
     def __init__(self, robot: KinematicRobot) -> None:
         self.robot = robot
         self._ranges = np.full(5, 5.0, np.float32)
+        self._scan: LaserScan | None = None
 
     def scan(self) -> LaserScan:
-        return LaserScan(self.robot.t, -1.0, 1.0, 0.5, 0.0, 0.1, 0.05, 10.0, self._ranges)
+        if self._scan is None or self._scan.stamp != self.robot.t:
+            self._scan = LaserScan(self.robot.t, -1.0, 1.0, 0.5, 0.0, 0.1, 0.05, 10.0,
+                                   self._ranges)
+        return self._scan
 
 
 class KinematicRobot:

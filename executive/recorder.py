@@ -110,7 +110,8 @@ class BlackboardWatcher:
             value = storage.get(key, _ABSENT)
             if value is _ABSENT:
                 continue
-            if short in last and _same(last[short], value):
+            old = last.get(short, _ABSENT)
+            if old is value or (old is not _ABSENT and _same(old, value)):
                 continue
             last[short] = value
             out[short] = value

@@ -26,6 +26,15 @@ class GateResult:
     clipped: bool = False
 
 
+class _Snapshot:
+    """Attribute access over a plain dict of parameter values."""
+
+    __slots__ = ("__dict__",)
+
+    def __init__(self, values: dict) -> None:
+        self.__dict__ = values
+
+
 class SafetyGate:
     """Velocity limits, stale-sensor and stall watchdogs. Any fault sends zero velocity."""
 
@@ -41,7 +50,7 @@ class SafetyGate:
                odom_stamp: float | None, measured: Twist | None, bumper: bool = False
                ) -> GateResult:
         """Return the command to send at ``now`` given the newest sensor stamps and velocity."""
-        p = self.params
+        p = _Snapshot(self.params.as_dict())  # one dict copy instead of a dozen lookups
         if cmd is None:
             self._stall_since = None
             return GateResult(Twist.zero())
