@@ -128,6 +128,7 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
     v_path = 0.0
     v_goal = 0.0
     cmax = 0
+    track = costs.shape[0] == size_y and costs.shape[1] == size_x  # an empty costs: no centres
     for i in range(start, n):
         if use_nose and c_nose == 0.0:
             px = nose[k, i, 0]
@@ -150,9 +151,10 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
                 if c_goal == 0.0:
                     c_goal = -4.0
             else:
-                cc = costs[my, mx]
-                if cc > cmax:
-                    cmax = cc
+                if track:
+                    cc = costs[my, mx]
+                    if cc > cmax:
+                        cmax = cc
                 if c_path == 0.0:
                     dp = path_grid[my, mx]
                     if dp == obstacle:
@@ -182,46 +184,48 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
     return front_s * v_front + align_s * v_align + path_s * v_path + goal_s * v_goal, cmax
 
 
+COARSE = 4  # the first footprint pass checks every 4th point
+
+
 @njit(cache=True, nogil=True)
 def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: float,
                     origin_y: float, resolution: float, footprint: np.ndarray, sum_scores: bool,
-                    base: float, scale: float, budget: float) -> float:
+                    base: float, scale: float, budget: float, phase: int, cost: float) -> float:
     """Worst (or summed) footprint cost over the points; -6 / -7 on lethal or off-map.
 
-    The centre cell counts too (ROS takes the max of the footprint and the centre cell). Stops
-    early, returning the partial cost, once ``base + scale * cost`` exceeds ``budget``. Visits
-    every 4th point from the far end first, then the rest: the result is the same (max and sum
-    ignore order) but a lethal cell, usually met far along, and a blown budget show up sooner.
+    The centre cell counts too (ROS takes the max of the footprint and the centre cell). Phase 0
+    visits every COARSE-th point from the far end (where a lethal cell usually is), phase 1 the
+    others; ``cost`` carries phase 0's result into phase 1, and the two phases together give the
+    full critic (max and sum ignore order). Stops early, returning the partial cost, once
+    ``base + scale * cost`` exceeds ``budget``.
     """
     size_y, size_x = costs.shape
-    cost = 0.0
-    for phase in range(2):
-        for i in range(n - 1, -1, -1):
-            if ((n - 1 - i) % 4 == 0) != (phase == 0):
-                continue
-            px = pts[k, i, 0]
-            py = pts[k, i, 1]
-            f = footprint_cost(costs, origin_x, origin_y, resolution, footprint, px, py,
-                               pts[k, i, 2])
-            if f < 0:
-                return -7.0
-            if f >= LETHAL_OBSTACLE:
-                return -6.0
-            if px < origin_x or py < origin_y:
-                return -7.0
-            mx = int((px - origin_x) / resolution)
-            my = int((py - origin_y) / resolution)
-            if mx >= size_x or my >= size_y:
-                return -7.0
-            c = costs[my, mx]
-            if c > f:
-                f = c
-            if sum_scores:
-                cost += f
-            elif f > cost:
-                cost = f
-            if base + scale * cost > budget:
-                return cost
+    for i in range(n - 1, -1, -1):
+        if ((n - 1 - i) % COARSE == 0) != (phase == 0):
+            continue
+        px = pts[k, i, 0]
+        py = pts[k, i, 1]
+        f = footprint_cost(costs, origin_x, origin_y, resolution, footprint, px, py,
+                           pts[k, i, 2])
+        if f < 0:
+            return -7.0
+        if f >= LETHAL_OBSTACLE:
+            return -6.0
+        if px < origin_x or py < origin_y:
+            return -7.0
+        mx = int((px - origin_x) / resolution)
+        my = int((py - origin_y) / resolution)
+        if mx >= size_x or my >= size_y:
+            return -7.0
+        c = costs[my, mx]
+        if c > f:
+            f = c
+        if sum_scores:
+            cost += f
+        elif f > cost:
+            cost = f
+        if base + scale * cost > budget:
+            return cost
     return cost
 
 
@@ -239,9 +243,10 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     ``state``: SCORED, PRUNED (score is a lower bound) or REJECTED (score is the code).
     With ``exhaustive`` every trajectory is scored in full (for drawing and for tests).
 
-    Three bounds, each exact or below the true cost, let most trajectories stop early: the grid
-    critics at the last point (one lookup each), then over all points plus the worst centre
-    cell, then the footprints themselves.
+    Bounds that never exceed the true cost let most trajectories stop early: the grid critics at
+    the last point (one lookup each), then over all points plus the worst centre cell, then the
+    footprints, checked far end first and every 4th point before the rest so that a lethal cell or
+    a blown budget shows up soon.
     """
     occ_s = weights[0]
     twirl_s = weights[5]
@@ -268,50 +273,38 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     order = np.argsort(cheap, kind="mergesort")
     best = -1
     best_cost = np.inf
-    # best first: a trajectory's footprints are checked only once its bound is the lowest of
-    # all bounds known (heap) or knowable (the next cheap bound, which the others exceed)
-    heap = [(0.0, 0)]
+    # best first: a trajectory is refined (grid critics over all points, then its footprints)
+    # only while its bound is the lowest of all bounds known (heap) or knowable (the next cheap
+    # bound, which every later trajectory reaches). Bounds never exceed the final cost, even in
+    # floating point: each level adds to the same base.
+    heap = [(0.0, 0, 0)]
     heap.pop()
+    partial = np.zeros(k_n)
     j = 0
     while True:
-        slack = 1e-9 * (1.0 + abs(best_cost)) if best >= 0 else 0.0
-        budget = np.inf if (exhaustive or best < 0) else best_cost + slack
         next_cheap = np.inf
         if j < k_n and state[order[j]] != REJECTED:
             next_cheap = cheap[order[j]]
         if len(heap) > 0 and heap[0][0] <= next_cheap:
-            b2, k = heapq.heappop(heap)
-            if b2 > budget:
-                scores[k] = b2
-                state[k] = PRUNED
-                continue
-            # stage 2: the footprint at every point
-            fp = footprint
-            s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
-            if s != 1.0:
-                fp = footprint * s
-            base = base_of[k]
-            o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
-                                sum_scores, base, occ_s, budget)
-            if o < 0:
-                scores[k] = o
-                state[k] = REJECTED
-                continue
-            total = base + occ_s * o
-            scores[k] = total
-            if total > budget:
-                state[k] = PRUNED
-                continue
-            if best < 0 or total < best_cost or (total == best_cost and k < best):
-                best = k
-                best_cost = total
+            b2, k, level = heapq.heappop(heap)
         elif next_cheap < np.inf:
             k = order[j]
             j += 1
-            if cheap[k] > budget:
-                state[k] = PRUNED  # and so will be every later one
-                continue
-            # stage 1: every point of the grid critics, and the centre cells
+            b2, level = cheap[k], 0
+        else:
+            break
+        # a tie goes to the earlier sample, as in ROS's strict comparison in sample order
+        if not exhaustive and best >= 0 and (b2 > best_cost or (b2 == best_cost and k > best)):
+            scores[k] = b2
+            state[k] = PRUNED
+            if level == 0:  # every later cheap bound is at least as high
+                for jj in range(j, k_n):
+                    if state[order[jj]] != REJECTED:
+                        state[order[jj]] = PRUNED
+                j = k_n
+            continue
+        budget = np.inf if (exhaustive or best < 0) else best_cost
+        if level == 0:  # the grid critics over every point, and the centre cells
             c, cmax = grid_critics(pts, nose, k, steps[k], origin_x, origin_y, resolution,
                                    path_grid, goal_grid, front_grid, weights, costs, 0)
             if c >= 0 and cmax >= LETHAL_OBSTACLE:
@@ -321,8 +314,30 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
                 state[k] = REJECTED
                 continue
             base_of[k] = c + twirl_s * abs(vels[k, 2])
+            partial[k] = cmax
             scores[k] = base_of[k] + occ_s * cmax
-            heapq.heappush(heap, (scores[k], k))
-        else:
-            break
+            heapq.heappush(heap, (scores[k], k, 1))
+            continue
+        fp = footprint
+        s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
+        if s != 1.0:
+            fp = footprint * s
+        base = base_of[k]
+        o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
+                            sum_scores, base, occ_s, budget, 0, 0.0 if sum_scores else partial[k])
+        if o >= 0 and base + occ_s * o <= budget:
+            o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
+                                sum_scores, base, occ_s, budget, 1, o)
+        if o < 0:
+            scores[k] = o
+            state[k] = REJECTED
+            continue
+        scores[k] = base + occ_s * o
+        total = scores[k]
+        if total > budget or (total == budget and k > best):
+            state[k] = PRUNED
+            continue
+        if best < 0 or total < best_cost or (total == best_cost and k < best):
+            best = k
+            best_cost = total
     return scores, state, best
