@@ -179,7 +179,9 @@ def test_observation_persistence_and_expected_update_rate_follow_the_clock():
         "scan": {"data_type": "LaserScan", "marking": True, "clearing": False,
                  "observation_persistence": 1.0, "expected_update_rate": 0.5}})
     layer = cm.layer("obstacle_layer")
-    assert not cm.layer("obstacle_layer").is_current()   # nothing received yet
+    assert layer.is_current()                              # the first deadline is 0.5 s away
+    clock.advance(0.6)
+    assert not layer.is_current()                          # nothing received in time
     ranges = np.full(360, np.inf, np.float32)
     ranges[180] = 1.0
     cm.add_scan(_scan(ranges), Pose2D())

@@ -73,7 +73,7 @@ class ObservationBuffer:
         self.params = params
         self.clock = clock
         self._obs: list[tuple[float, Observation]] = []
-        self._last_updated: float | None = None
+        self._last_updated = clock.now()  # as costmap_2d: current until the first deadline
 
     def add(self, obs: Observation) -> None:
         now = self.clock.now()
@@ -98,8 +98,6 @@ class ObservationBuffer:
         rate = self.params.expected_update_rate
         if rate == 0.0:
             return True
-        if self._last_updated is None:
-            return False
         return self.clock.now() - self._last_updated <= rate
 
     def clear(self) -> None:
