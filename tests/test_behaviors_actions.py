@@ -340,3 +340,16 @@ def test_temporary_goal_prefers_gentle_arcs_and_drives_itself_when_the_controlle
     refuse = Rig(World(controller=ScriptedController(fail_always=True)))
     status, _ = refuse.run(refuse.node("TemporaryGoal", escape_speed=0.0))
     assert status == F and refuse.get("temporary_goal_error_code") == BehaviorError.COLLISION_AHEAD
+
+
+def test_planner_and_controller_selectors():
+    rig = Rig()
+    sel = rig.node("ControllerSelector", default_controller="FollowPath")
+    sel.tick_once()
+    assert sel.status == S and rig.get("selected_controller") == "FollowPath"
+    rig.put("controller_selection", "Precise")
+    sel.tick_once()
+    assert rig.get("selected_controller") == "Precise"
+    ps = rig.node("PlannerSelector")
+    ps.tick_once()
+    assert rig.get("selected_planner") == "GridBased"

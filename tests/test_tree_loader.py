@@ -263,13 +263,14 @@ NAV2_JAZZY = """<?xml version="1.0"?>
 """
 
 
-def test_nav2_xml_loads_once_unsupported_nodes_are_named(tmp_path):
-    p = write(tmp_path, "nav2.xml", NAV2_JAZZY)
+def test_nav2_xml_loads_and_unsupported_nodes_are_named(tmp_path):
+    p = write(tmp_path, "nav2.xml", NAV2_JAZZY.replace(
+        '<Sequence>\n              <WouldAPlannerRecoveryHelp',
+        '<Sequence>\n              <TruncatePathLocal/>\n              <WouldAPlannerRecoveryHelp'))
     with pytest.raises(TreeError) as e:
         load_xml(p)
-    assert "nav2.xml:6: ControllerSelector: unknown node type" in str(e.value)
-    p2 = write(tmp_path, "nav2b.xml", "\n".join(l for l in NAV2_JAZZY.splitlines()
-                                                if "ControllerSelector" not in l))
+    assert "nav2.xml:11: TruncatePathLocal: unknown node type" in str(e.value)
+    p2 = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
     t = load_xml(p2, namespace="/x")
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
     assert [c.get_input("costmap") for c in clears] == ["global", "local", "local", "global"]
@@ -335,8 +336,7 @@ def test_yaml_export_round_trip(name, tmp_path):
 
 def test_xml_to_yaml_types_the_literals(tmp_path):
     from executive.tree_loader import to_yaml
-    p = write(tmp_path, "nav2b.xml", "\n".join(l for l in NAV2_JAZZY.splitlines()
-                                               if "ControllerSelector" not in l))
+    p = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
     text = to_yaml(load_xml(p))
     assert "wait_duration: 5.0" in text and "number_of_retries: 6" in text
     assert "costmap: local" in text
