@@ -190,12 +190,14 @@ def test_observation_persistence_and_expected_update_rate_follow_the_clock():
     cm.add_scan(_scan(ranges), Pose2D())
     assert len(layer.buffers["scan"].observations()) == 2  # both within 1 s
     clock.advance(0.6)
-    assert len(layer.buffers["scan"].observations()) == 1  # the first is 1.2 s old now
-    assert not layer.is_current()                          # 0.6 s since the last reading
+    # no new reading: ages count from the newest one, so both stay, but the source is late
+    assert len(layer.buffers["scan"].observations()) == 2
+    assert not layer.is_current()
     cm.update_map(Pose2D())
     assert not cm.is_current()
-    assert _cell_cost(cm, 0.0, -1.0) == LETHAL_OBSTACLE
-    cm.add_scan(_scan(ranges), Pose2D())
+    assert _cell_cost(cm, 0.0, -1.0) == _cell_cost(cm, 1.0, 0.0) == LETHAL_OBSTACLE
+    cm.add_scan(_scan(ranges), Pose2D())                 # now the first is 1.2 s older
+    assert len(layer.buffers["scan"].observations()) == 2
     cm.update_map(Pose2D())
     assert cm.is_current()
 

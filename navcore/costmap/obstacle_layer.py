@@ -82,12 +82,13 @@ class ObservationBuffer:
         self._purge()
 
     def _purge(self) -> None:
+        # ages count from the newest reading, not from now (costmap_2d): a sensor that stops
+        # leaves its last observations in place; is_current() is what reports the silence
         keep = self.params.observation_persistence
         if keep == 0.0:
             self._obs = self._obs[-1:]
         else:
-            now = self.clock.now()
-            self._obs = [(t, o) for t, o in self._obs if now - t <= keep]
+            self._obs = [(t, o) for t, o in self._obs if self._last_updated - t <= keep]
 
     def observations(self) -> list[Observation]:
         self._purge()
