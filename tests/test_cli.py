@@ -207,3 +207,63 @@ def test_nodes_listing_and_detail(capsys):
     assert code == 0 and "number_of_retries" in out
     code, _, err = run_cli(capsys, "nodes", "RecoveryNod")
     assert code == 1 and "did you mean 'RecoveryNode'" in err
+
+
+# ------------------------------------------------------------------ end to end (simulator)
+@needs_loader
+def test_demo_runs_and_writes_run_folder(tmp_path, capsys):
+    out_dir = tmp_path / "demo"
+    code, out, err = run_cli(capsys, "demo", "--out", str(out_dir))
+    assert code == 0, err + out
+    lines = out.strip().splitlines()
+    assert lines[-1] == str(out_dir)
+    assert lines[-2].startswith("succeeded in ") and "collisions: 0" in lines[-2]
+    assert "\r" not in out  # the progress line stays quiet when stdout is not a terminal
+    assert sorted(p.name for p in out_dir.iterdir()) == ["run.png", "summary.json",
+                                                          "ticks.jsonl", "tree.svg"]
+    summary = json.loads((out_dir / "summary.json").read_text())
+    assert summary["outcome"] == "succeeded" and summary["collisions"] == 0
+    assert summary["recoveries"], "the demo is a stuck situation: some recovery must fire"
+    code, out, _ = run_cli(capsys, "replay", str(out_dir), "--tick", "0")
+    assert code == 0 and out.startswith("tick 0/")
+
+
+@needs_loader
+def test_run_to_goals_and_errors(tmp_path, capsys):
+    tree = os.path.join(ROOT, "trees", "smach_recovery.yaml")
+    m = os.path.join(ROOT, "executive", "data", "maps", "two_rooms.yaml")
+    rec = tmp_path / "run"
+    code, out, err = run_cli(capsys, "run", tree, "--map", m, "--start", "5.5,2.5,0",
+                             "--goal", "6.5,1.5,0", "--goal", "5.0,3.5,1.57",
+                             "--record", str(rec), "--time-limit", "60")
+    assert code == 0, err + out
+    assert out.startswith("succeeded: 2/2 goals in ")
+    assert (rec / "run.png").exists() and (rec / "summary.json").exists()
+    code, _, err = run_cli(capsys, "run", tree, "--map", m, "--goal", "99,99,0")
+    assert code == 1 and "--goal 99,99: outside the map" in err
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("main_tree: T\ntrees:\n  T:\n    Sequence:\n      children:\n"
+                   "        - Wiat: {}\n")
+    code, _, err = run_cli(capsys, "run", str(bad), "--map", m, "--goal", "6,1,0")
+    assert code == 1 and err.startswith("mission run: ") and "bad.yaml" in err
+    assert "Wiat" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run_cli(capsys, "run", tree, "--map", m, "--goal", "6,1,0", "--hw")
+    assert code == 1 and "--hw" in err
+
+
+@needs_loader
+def test_scenario_run_table_and_json(tmp_path, capsys):
+    s = tmp_path / "tiny.yaml"
+    rows = ["#" * 30] + ["#" + "." * 28 + "#"] * 7 + ["#" + "." * 28 + "#"] * 7 + ["#" * 30]
+    rows[8] = "#....S..................G....#"
+    art = "".join(f"    {r}\n" for r in rows)
+    s.write_text("description: a short straight drive\nmap:\n  resolution: 0.1\n  ascii: |\n"
+                 + art + "time_limit: 30\n")
+    code, out, err = run_cli(capsys, "scenario", "run", str(s), "--json")
+    assert code == 0, err
+    (r,) = json.loads(out)
+    assert r["scenario"] == "tiny" and r["outcome"] == "succeeded" and r["passed"]
+    bad_tree = tmp_path / "t.yaml"
+    bad_tree.write_text("main_tree: T\ntrees: {}\n")
+    code, _, err = run_cli(capsys, "scenario", "run", str(s), "--tree", str(bad_tree))
+    assert code == 1 and err.startswith("mission scenario: ") and "t.yaml" in err
