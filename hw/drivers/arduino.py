@@ -132,6 +132,7 @@ class ArduinoBaseDriver(SerialDriver):
         now = self.clock.now()
         p = self.params
         if self._pending and now - self._pending[0][1] > 2.0 / p.base_controller_rate:
+            self._reject(f"no reply to a '{self._pending[0][0]}' request")
             self._pending.clear()              # a reply went missing: start afresh
             self._lines.reset()
             port.reset_input_buffer()
@@ -151,7 +152,12 @@ class ArduinoBaseDriver(SerialDriver):
         self._pending.append(("enc", now))
 
     def _on_bytes(self, data: bytes) -> None:
-        for line in self._lines.feed(data):
+        before = self._lines.errors
+        lines = self._lines.feed(data)
+        if self._lines.errors != before:
+            self.rejected += self._lines.errors - before - 1
+            self._reject("garbled reply line")
+        for line in lines:
             if not self._pending:
                 self._reject(f"unsolicited reply {line!r}")
                 continue

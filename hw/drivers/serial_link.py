@@ -106,7 +106,8 @@ class SerialDriver:
         """Called after every read (at least every ``read_timeout``) while connected."""
 
     def _on_close(self, port: serial.SerialBase) -> None:
-        """Last chance to write before the port closes (e.g. stop the base, laser off)."""
+        """Last words before the port closes, on close and before a reconnect (stop the base,
+        stop the stream). The port may already be dead: errors are ignored."""
 
     # -- helpers for subclasses -------------------------------------------------------------
     def mark_valid(self) -> None:
@@ -123,8 +124,9 @@ class SerialDriver:
         self.connected = False
         if port is not None:
             try:
-                if self._stop.is_set():
-                    self._on_close(port)
+                # best effort on every drop, not only on close: a base that can still hear us
+                # is stopped before we reconnect (on any fault the robot gets zero velocity)
+                self._on_close(port)
             except (serial.SerialException, OSError):
                 pass
             try:
