@@ -4,9 +4,10 @@ costmap_2d's InflationLayer spreads costs with a priority-queue brushfire that a
 distance to the nearest lethal cell. Like Nav2's newest inflation layer we compute the exact
 distance instead (Felzenszwalb-Huttenlocher lower envelope of parabolas, separable: a column pass
 then a row pass) and map squared cell distance to cost through a lookup table built with the
-costmap_2d formula. Distances are only needed up to the inflation radius, so the column pass is
-capped there and the row pass only builds the envelope from cells near an obstacle: the cost is
-proportional to the window, independent of the radius for the column pass.
+costmap_2d formula. Distances are only needed up to the inflation radius: the column pass is
+capped there (so its scratch fits in uint8), the row pass builds the envelope only from cells
+near an obstacle and skips the stretches of a row that no obstacle reaches. Cells farther than
+the radius keep their cost, exactly as costmap_2d leaves them unvisited.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from numba import njit
 
 from navcore.costmap.cost_values import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE,
                                          NO_INFORMATION)
-from navcore.params import Param
+from navcore.params import Param, Parameters
 
 
 def compute_cost(distance_cells: float, resolution: float, inscribed_radius: float,
@@ -317,7 +318,6 @@ class InflationLayer:
 
     def __init__(self, name: str, params: dict | None = None, inscribed_radius: float = 0.0,
                  resolution: float = 0.05) -> None:
-        from navcore.params import Parameters
         self.name = name
         self.params = Parameters(INFLATION_PARAMS, params or {}, where=name)
         self.current = True
