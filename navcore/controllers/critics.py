@@ -19,11 +19,16 @@ Rejection codes (the ROS ones): -2 a point has no way to the path or goal, -3 a 
 obstacle in a grid, -4 a point (or its shifted twin) is off the map, -5 oscillation, -6 the
 footprint touches a lethal or unknown cell, -7 the footprint leaves the map.
 
+Departures from ROS, toward safety: a centre cell that is lethal or unknown rejects the
+trajectory (-6) like a footprint cell does, and the obstacle critic rejects lethal trajectories
+even when ``occdist_scale`` is 0.
+
 Speed: the grid critics cost a lookup per point, the footprint a raster per point. The kernel
-scores the grid critics of every trajectory first, then evaluates footprints in order of that
-lower bound and stops once no remaining trajectory can beat the best (branch and bound). The
-choice is the one ROS makes (lowest total, ties to the earliest sample); the score of a pruned
-trajectory is the lower bound reached when it was dropped, as ROS's own early exit reports.
+judges trajectories best-first on bounds that only grow toward the true cost (the grid critics
+at the last point; all points plus the worst centre cell; the footprints) and stops once no
+trajectory left can beat the best (branch and bound). The choice is the one ROS makes (lowest
+total, ties to the earliest sample); the score of a pruned trajectory is the bound reached when
+it was dropped, as ROS's own early exit reports.
 """
 
 from __future__ import annotations
@@ -44,7 +49,11 @@ SCORED, PRUNED, REJECTED = 0, 1, 2
 def grid_critic(pts: np.ndarray, k: int, n: int, grid: np.ndarray, origin_x: float,
                 origin_y: float, resolution: float, xshift: float, stop_on_failure: bool) -> float:
     """MapGridCostFunction with aggregation Last: grid value at the last point, negative codes
-    for points off the map (-4) and, with ``stop_on_failure``, on obstacles (-3) or cut off (-2)."""
+    for points off the map (-4) and, with ``stop_on_failure``, on obstacles (-3) or cut off (-2).
+
+    One critic at a time, as ROS chains them: the reference that ``grid_critics`` (all four in
+    one pass, what the planner runs) is tested against.
+    """
     size_y, size_x = grid.shape
     obstacle = size_x * size_y
     value = 0.0

@@ -347,33 +347,31 @@ class TrajectoryPlanner(LocalPlannerBase):
         lo_t = max(p.min_vel_theta, vth - p.acc_lim_theta * span)
         dvx = (hi_x - lo_x) / (p.vx_samples - 1) if p.vx_samples > 1 else 0.0
         dvt = (hi_t - lo_t) / (p.vtheta_samples - 1) if p.vtheta_samples > 1 else 0.0
-        rows: list[tuple[float, float, float]] = []
-        group: list[int] = []
-        raw_theta: list[float] = []
+        parts: list[np.ndarray] = []
+        groups: list[np.ndarray] = []
+
+        def add(vx_: np.ndarray, vy_: np.ndarray, vth_: np.ndarray, g: int) -> None:
+            parts.append(np.column_stack([vx_, vy_, vth_]))
+            groups.append(np.full(len(vx_), g))
+
+        nv, nt = p.vx_samples, p.vtheta_samples
         if not self._escaping:
-            for i in range(p.vx_samples):
-                x = lo_x + i * dvx
-                rows.append((x, 0.0, 0.0))
-                group.append(0)
-                for j in range(p.vtheta_samples - 1):  # ROS never samples the top rate here
-                    rows.append((x, 0.0, lo_t + j * dvt))
-                    group.append(0)
+            # per vx: the straight sample, then vtheta_samples - 1 rates from the bottom (ROS
+            # never samples the top rate here)
+            xs = np.repeat(lo_x + np.arange(nv) * dvx, nt)
+            ts = np.tile(np.concatenate([[0.0], lo_t + np.arange(nt - 1) * dvt]), nv)
+            add(xs, np.zeros_like(xs), ts, 0)
             if p.holonomic_robot:
-                rows += [(0.1, 0.1, 0.0), (0.1, -0.1, 0.0)]
-                group += [1, 1]
-        for j in range(p.vtheta_samples):
-            t = lo_t + j * dvt
-            lim = max(t, p.min_in_place_vel_theta) if t > 0 else min(t, -p.min_in_place_vel_theta)
-            rows.append((0.0, 0.0, lim))
-            group.append(2)
-            raw_theta.append(t)
+                add(np.array([0.1, 0.1]), np.array([0.1, -0.1]), np.zeros(2), 1)
+        raw_theta = lo_t + np.arange(nt) * dvt
+        lim = np.where(raw_theta > 0, np.maximum(raw_theta, p.min_in_place_vel_theta),
+                       np.minimum(raw_theta, -p.min_in_place_vel_theta))
+        add(np.zeros(nt), np.zeros(nt), lim, 2)
         if p.holonomic_robot:
-            for vy in parse_y_vels(p.y_vels):
-                rows.append((0.0, vy, 0.0))
-                group.append(3)
-        rows.append((p.escape_vel, 0.0, 0.0))
-        group.append(4)
-        return np.array(rows, dtype=np.float64), np.array(group), np.array(raw_theta), dvt
+            vys = np.array(parse_y_vels(p.y_vels), dtype=np.float64)
+            add(np.zeros(len(vys)), vys, np.zeros(len(vys)), 3)
+        add(np.array([p.escape_vel]), np.zeros(1), np.zeros(1), 4)
+        return np.concatenate(parts), np.concatenate(groups), raw_theta, dvt
 
     def _rollout(self, pose: Pose2D, velocity: Twist, samples: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
@@ -395,19 +393,22 @@ class TrajectoryPlanner(LocalPlannerBase):
                                   ctx["res"], self.footprint, ctx["path"], ctx["goal"],
                                   ctx["weights"], base, budget))
 
-    def _ahead_goal_dist(self, pts: np.ndarray, steps: np.ndarray, k: int,
-                         ctx: dict[str, Any]) -> float | None:
-        """Goal-grid value ``heading_lookahead`` ahead of trajectory k's end (None off map)."""
-        x, y, th = pts[k, steps[k] - 1]
-        x += self.params.heading_lookahead * math.cos(th)
-        y += self.params.heading_lookahead * math.sin(th)
+    def _ahead_goal_dists(self, pts: np.ndarray, steps: np.ndarray, ks: np.ndarray,
+                          ctx: dict[str, Any]) -> np.ndarray:
+        """Goal-grid values ``heading_lookahead`` ahead of the ends of trajectories ``ks``
+        (inf where that point is off the map)."""
+        end = pts[ks, steps[ks] - 1]
+        la = self.params.heading_lookahead
+        x = end[:, 0] + la * np.cos(end[:, 2])
+        y = end[:, 1] + la * np.sin(end[:, 2])
         cm = self.costmap
-        if x < cm.origin_x or y < cm.origin_y:
-            return None
-        mx, my = int((x - cm.origin_x) / cm.resolution), int((y - cm.origin_y) / cm.resolution)
-        if mx >= cm.size_x or my >= cm.size_y:
-            return None
-        return float(ctx["goal"][my, mx])
+        out = np.full(len(ks), np.inf)
+        ok = (x >= cm.origin_x) & (y >= cm.origin_y)
+        mx = np.where(ok, (x - cm.origin_x) / cm.resolution, 0).astype(np.int64)
+        my = np.where(ok, (y - cm.origin_y) / cm.resolution, 0).astype(np.int64)
+        ok &= (mx < cm.size_x) & (my < cm.size_y)
+        out[ok] = ctx["goal"][my[ok], mx[ok]]
+        return out
 
     def find_best(self, pose: Pose2D, velocity: Twist, ctx: dict[str, Any]
                   ) -> tuple[int, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -434,12 +435,14 @@ class TrajectoryPlanner(LocalPlannerBase):
         scores[rest] = lb
         lower = dict(zip(rest.tolist(), zip(bound.tolist(), base.tolist())))
         # in-place rotations: prefer turning toward where the goal is closer
-        for j, k in enumerate(np.flatnonzero(group == 2)):
+        rot = np.flatnonzero(group == 2)
+        aheads = self._ahead_goal_dists(pts, steps, rot, ctx)
+        for j, k in enumerate(rot):
             t = raw_theta[j]
             if not (t > dvt or t < -dvt):
                 continue
-            ahead = self._ahead_goal_dist(pts, steps, k, ctx)
-            if ahead is None or ahead >= heading_dist:
+            ahead = float(aheads[j])
+            if ahead >= heading_dist:
                 continue
             if not ((t < 0 and not self.stuck_left) or (t > 0 and not self.stuck_right)):
                 continue
@@ -454,14 +457,16 @@ class TrajectoryPlanner(LocalPlannerBase):
         if best >= 0:
             return self._finish(pose, best, best_cost, samples, pts, steps, scores)
         # stuck: sideways escapes (holonomic only)
-        for k in np.flatnonzero(group == 3):
+        side = np.flatnonzero(group == 3)
+        aheads = self._ahead_goal_dists(pts, steps, side, ctx)
+        for j, k in enumerate(side):
             vy = samples[k, 1]
             c = self._cost(pts, steps, k, ctx)
             scores[k] = c
             if c < 0 or not (best < 0 or c <= best_cost):
                 continue
-            ahead = self._ahead_goal_dist(pts, steps, k, ctx)
-            if ahead is None or ahead >= heading_dist:
+            ahead = float(aheads[j])
+            if ahead >= heading_dist:
                 continue
             if (vy > 0 and not self.stuck_left_strafe) or (vy < 0 and not self.stuck_right_strafe):
                 best, best_cost, heading_dist = int(k), c, ahead
