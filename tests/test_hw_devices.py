@@ -55,9 +55,11 @@ def test_a_whole_robot_on_emulators(clean_registry) -> None:
         assert isinstance(devs["base"], Base) and isinstance(devs["laser"], Laser)
         assert isinstance(devs["imu"], ImuSensor)
         assert devs["laser"].mount == Pose2D(0.2, 0.0, 0.0)
-        assert wait_until(lambda: all(d.connected for d in devs.values()), 5.0)
+        assert wait_until(lambda: all(d.connected for d in devs.values()), 8.0), \
+            {k: d.last_error for k, d in devs.items()}
         assert wait_until(lambda: devs["laser"].scan() is not None and devs["imu"].imu()
-                          is not None and devs["base"].odometry() is not None, 3.0)
+                          is not None and devs["base"].odometry() is not None, 5.0), \
+            {k: d.last_error for k, d in devs.items()}
         assert len(devs["laser"].scan().ranges) == 341
         devs["base"].send(Twist(0.1, 0.0, 0.0))
         base_emu = emu.lookup("robot-base").emulator
