@@ -23,6 +23,7 @@ _RECOVERY_COLOUR = (230, 120, 0)
 _TRAJ_COLOUR = (20, 150, 40)
 _CONTACT_COLOUR = (220, 0, 0)
 _GOAL_COLOUR = (160, 0, 200)
+_PHANTOM_COLOUR = (230, 60, 160)
 
 
 def _map_rgb(grid: OccupancyGrid) -> np.ndarray:
@@ -44,7 +45,8 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
              paths: Sequence[Sequence[Sequence[float]]], recoveries: Sequence[dict[str, Any]],
              contacts: Sequence[Sequence[float]], goals: Sequence[Sequence[float]],
              footprint: Sequence[Sequence[float]], out_path: str,
-             obstacles: Sequence[Sequence[Sequence[float]]] = (), title: str = "") -> Image.Image:
+             obstacles: Sequence[Sequence[Sequence[float]]] = (),
+             phantoms: Sequence[Sequence[Sequence[float]]] = (), title: str = "") -> Image.Image:
     """Draw a run and save it as PNG at ``out_path``; returns the image (for tests)."""
     res = grid.resolution
     ox, oy = grid.origin.x, grid.origin.y
@@ -76,6 +78,11 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
     for poly in obstacles:
         if len(poly) >= 3:
             draw.polygon([px(*p[:2]) for p in poly], fill=(110, 110, 110), outline=(60, 60, 60))
+    for poly in phantoms:  # costmap-only obstacles: an outline, since nothing is really there
+        if len(poly) >= 3:
+            pts = [px(*p[:2]) for p in poly]
+            draw.line(pts + [pts[0]], fill=_PHANTOM_COLOUR, width=2)
+            draw.text((pts[0][0] + 2, pts[0][1] + 2), "phantom", fill=_PHANTOM_COLOUR)
     for i, path in enumerate(paths):
         if len(path) >= 2:
             draw.line([px(*p[:2]) for p in path], fill=_PATH_COLOURS[i % 3], width=1)
@@ -90,9 +97,6 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
         gx, gy = px(g[0], g[1])
         draw.line([(gx - 6, gy - 6), (gx + 6, gy + 6)], fill=_GOAL_COLOUR, width=2)
         draw.line([(gx - 6, gy + 6), (gx + 6, gy - 6)], fill=_GOAL_COLOUR, width=2)
-    if trajectory:
-        sx, sy = px(*trajectory[0][:2])
-        draw.ellipse([sx - 4, sy - 4, sx + 4, sy + 4], outline=(0, 0, 0), fill=_TRAJ_COLOUR)
     placed: list[tuple[float, float]] = []
     for n, rec in enumerate(recoveries, 1):
         rx, ry = px(*rec["pose"][:2])
@@ -102,6 +106,9 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
         placed.append((rx, ry))
         draw.text((rx + 7, ry - 6 + 11 * k), f"{n}. {rec.get('recovery', '?')}",
                   fill=(140, 60, 0))
+    if trajectory:
+        sx, sy = px(*trajectory[0][:2])
+        draw.ellipse([sx - 4, sy - 4, sx + 4, sy + 4], outline=(0, 0, 0), fill=_TRAJ_COLOUR)
     if title:
         draw.rectangle([0, 0, 8 + 6 * len(title), 14], fill=(255, 255, 255))
         draw.text((4, 2), title, fill=(0, 0, 0))

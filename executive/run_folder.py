@@ -28,7 +28,8 @@ def open_log(run_dir: str | os.PathLike) -> TextIO:
 def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
            grid: OccupancyGrid, footprint: Sequence[Sequence[float]],
            extra: dict[str, Any] | None = None,
-           obstacles: Sequence[Sequence[Sequence[float]]] = ()) -> dict[str, Any]:
+           obstacles: Sequence[Sequence[Sequence[float]]] = (),
+           phantoms: Sequence[Sequence[Sequence[float]]] = ()) -> dict[str, Any]:
     """Write tree.svg, run.png and summary.json; returns the summary."""
     d = FsPath(run_dir)
     d.mkdir(parents=True, exist_ok=True)
@@ -54,7 +55,7 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     paths = _distinct_paths(t.paths)
     title = f"{summary.get('name', '')} {result.outcome} in {result.sim_time:.1f} s".strip()
     draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
-             str(d / "run.png"), obstacles=obstacles, title=title)
+             str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title)
     (d / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 

@@ -455,7 +455,8 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
             from executive.run_folder import finish
             finish(record_dir, mission.executive, result, scenario.grid, config.footprint(),
                    extra={"name": scenario.name, "tree": tree_path},
-                   obstacles=[s.polygon() for s in scenario.objects])
+                   obstacles=[s.polygon() for s in scenario.objects],
+                   phantoms=[shape.polygon() for shape, _ in scenario.phantoms])
         fired_types = [r["type"] for r in mission.executive.trace.recoveries]
         mission.executive.shutdown()
     finally:
