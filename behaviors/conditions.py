@@ -280,14 +280,22 @@ class DistanceTraveled(Condition):
         return Status.FAILURE
 
 
-def remaining_length(path: Path, pose: Pose2D) -> float:
-    """Length of ``path`` from the pose closest to ``pose`` to its end, m."""
+def length_to_go(poses: np.ndarray) -> np.ndarray:
+    """For each pose of an (N, 3) path, the path length from it to the end, m."""
+    steps = np.hypot(np.diff(poses[:, 0]), np.diff(poses[:, 1]))
+    return np.concatenate([np.cumsum(steps[::-1])[::-1], [0.0]]) if len(steps) else np.zeros(1)
+
+
+def remaining_length(path: Path, pose: Pose2D, to_go: np.ndarray | None = None) -> float:
+    """Length of ``path`` from the pose closest to ``pose`` to its end, m (``to_go`` is
+    ``length_to_go(path.poses)`` when the caller keeps it)."""
     if len(path) == 0:
         return 0.0
     d = np.hypot(path.poses[:, 0] - pose.x, path.poses[:, 1] - pose.y)
     i = int(np.argmin(d))
-    rest = path.poses[i:, :2]
-    return float(d[i] + np.sum(np.hypot(*np.diff(rest, axis=0).T))) if len(rest) > 1 else float(d[i])
+    if to_go is None:
+        to_go = length_to_go(path.poses)
+    return float(d[i] + to_go[i])
 
 
 class IsGoalNearby(Condition):
@@ -305,7 +313,9 @@ class IsGoalNearby(Condition):
         path = self.read("path")
         if path is None:
             return Status.FAILURE
-        left = remaining_length(path, self.pose())
+        if path is not getattr(self, "_path", None):  # a new plan: sum its lengths once
+            self._path, self._to_go = path, length_to_go(path.poses)
+        left = remaining_length(path, self.pose(), self._to_go)
         self.say(f"{left:.2f} m of path left")
         return _yes(left < self.get_input("proximity_threshold"))
 
