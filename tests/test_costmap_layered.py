@@ -397,6 +397,8 @@ def test_footprint_cost_of_the_handle_uses_the_master_grid():
     assert cm.footprint_cost(1.25, 0.62, 0.0) == compute_cost(1.0, 0.25, 0.2, 10.0) == 152
     assert cm.footprint_cost(1.25, 0.3, 0.0) == LETHAL_OBSTACLE
     assert cm.footprint_cost(-1.0, 0.6, 0.0) == -1
+    poses = np.array([[1.25, 0.62, 0.0], [1.25, 0.3, 0.0], [-1.0, 0.6, 0.0], [1.0, 0.7, 0.5]])
+    assert list(cm.footprint_costs(poses)) == [cm.footprint_cost(*p) for p in poses]
 
 
 @pytest.mark.parametrize("name", sorted(REAL_MAPS))

@@ -240,6 +240,17 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     return best
 
 
+@njit(cache=True, nogil=True)
+def footprint_costs(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+                    footprint: np.ndarray, poses: np.ndarray) -> np.ndarray:
+    """``footprint_cost`` of each (x, y, theta) row of ``poses`` (N, 3), as an int64 array."""
+    out = np.empty(poses.shape[0], dtype=np.int64)
+    for i in range(poses.shape[0]):
+        out[i] = footprint_cost(costs, origin_x, origin_y, resolution, footprint, poses[i, 0],
+                                poses[i, 1], poses[i, 2])
+    return out
+
+
 def transform_footprint(fp: np.ndarray, x: float, y: float, theta: float) -> np.ndarray:
     """The footprint polygon placed at pose (x, y, theta) in the world frame, (N, 2)."""
     c, s = math.cos(theta), math.sin(theta)

@@ -18,8 +18,8 @@ import numpy as np
 from navcore.clock import Clock, SimClock
 from navcore.costmap.cost_values import FREE_SPACE, NO_INFORMATION
 from navcore.costmap.costmap2d import Costmap2D
-from navcore.costmap.footprint import (circumscribed_radius, footprint_cost, inscribed_radius,
-                                       make_footprint)
+from navcore.costmap.footprint import (circumscribed_radius, footprint_cost, footprint_costs,
+                                       inscribed_radius, make_footprint)
 from navcore.costmap.inflation import InflationLayer
 from navcore.costmap.obstacle_layer import ObstacleLayer
 from navcore.costmap.static_layer import StaticLayer
@@ -396,6 +396,12 @@ class LayeredCostmap:
         m = self.costmap
         return int(footprint_cost(m.costs, m.origin_x, m.origin_y, m.resolution, self.footprint,
                                   float(x), float(y), float(theta)))
+
+    def footprint_costs(self, poses: np.ndarray) -> np.ndarray:
+        """``footprint_cost`` of each (x, y, theta) row of ``poses`` (N, 3), in one numba call."""
+        p = np.ascontiguousarray(poses, dtype=np.float64).reshape(-1, 3)
+        m = self.costmap
+        return footprint_costs(m.costs, m.origin_x, m.origin_y, m.resolution, self.footprint, p)
 
     def layer(self, plugin_name: str):
         """The layer of that plugin name."""
