@@ -82,6 +82,9 @@ class _Reader:
                 spec.has_children_key = True
                 if not isinstance(vn, yaml.SequenceNode):
                     raise spec.error("'children' must be a list of nodes", kwhere)
+                if vn.tag != "tag:yaml.org,2002:seq":
+                    raise spec.error(f"YAML tag '{vn.tag}' is not allowed (trees are plain data)",
+                                     kwhere)
                 spec.children = [self.node(c) for c in vn.value]
             elif key == "child":
                 spec.has_children_key = True

@@ -418,3 +418,10 @@ def test_tree_error_knows_file_line_and_excerpt(tmp_path):
         load_tree(p)
     assert e.value.file == str(p) and e.value.line == 3
     assert e.value.excerpt() == "    Spin: {spin_dits: 1.0}"
+
+
+def test_tagged_sequences_and_scalars_are_refused(tmp_path):
+    msg = error_of(tmp_path, "trees:\n  T:\n    Sequence:\n      children: !!python/tuple [Wait]\n")
+    assert "YAML tag 'tag:yaml.org,2002:python/tuple' is not allowed" in msg
+    msg = error_of(tmp_path, "trees:\n  T:\n    Wait: {wait_duration: !!python/name:os.getcwd ''}\n")
+    assert msg.startswith("t.yaml:3:")
