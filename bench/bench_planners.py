@@ -5,7 +5,7 @@ where occupied, unknown where unknown, inflated as in the C++ baselines of
 ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, cost_scaling_factor
 10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map
 between the two free cells farthest apart along the diagonal. Each figure is the median of several
-full ``make_plan`` calls after a warm-up (numba compiled and cached). ``--json`` prints one JSON
+full ``make_plan`` calls after a warm-up (numba compiled and cached), in process CPU time. ``--json`` prints one JSON
 object as the last line. ``global_planner_astar_grid`` is ``use_dijkstra: false`` with
 ``use_grid_path: true``; its C++ figure is ROS's greedy single-assignment A*, which is not
 least-cost (ours is a real A*, see navcore/planners/astar.py).
@@ -51,12 +51,14 @@ def costmap_from_grid(data: np.ndarray, resolution: float, origin: tuple[float, 
 
 
 def clock_ms(fn, repeat: int) -> float:
+    """Median CPU time of ``fn`` in ms: the planners are single-threaded, and CPU time keeps other
+    jobs on a shared machine out of the figure (wall time would count their time slices)."""
     fn()  # warm-up (JIT cache load, buffer allocation)
     times = []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         fn()
-        times.append((time.perf_counter() - t0) * 1e3)
+        times.append((time.process_time() - t0) * 1e3)
     return statistics.median(times)
 
 

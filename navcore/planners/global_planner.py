@@ -114,7 +114,8 @@ class GlobalPlanner:
         mx = (w.x - cm.origin_x) / cm.resolution - 0.5
         my = (w.y - cm.origin_y) / cm.resolution - 0.5
         rx, ry = round(mx), round(my)
-        return (rx if abs(mx - rx) < 1e-9 else mx), (ry if abs(my - ry) < 1e-9 else my)
+        return (float(rx) if abs(mx - rx) < 1e-9 else mx,
+                float(ry) if abs(my - ry) < 1e-9 else my)
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):
