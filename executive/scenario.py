@@ -383,13 +383,14 @@ class ScenarioResult:
     failures: list[str]
     reason: str = ""
     run_dir: str | None = None
+    known_issue: str = ""
 
     def as_dict(self) -> dict[str, Any]:
         return {"scenario": self.scenario, "tree": self.tree, "outcome": self.outcome,
                 "sim_time_s": round(self.sim_time, 3), "wall_time_s": round(self.wall_time, 3),
                 "recoveries": self.recoveries, "collisions": self.collisions,
                 "solved": self.solved, "passed": self.passed, "failures": self.failures,
-                "reason": self.reason, "run_dir": self.run_dir}
+                "reason": self.reason, "run_dir": self.run_dir, "known_issue": self.known_issue}
 
 
 def check_expectation(e: Expectation, outcome: str, sim_time: float, fired_types: list[str],
@@ -468,4 +469,5 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     return ScenarioResult(scenario.name, tree_name, result.outcome, result.sim_time, wall.now(),
                           fired_types, result.collisions,
                           result.outcome == "succeeded" and result.collisions == 0,
-                          not failures, failures, result.reason, record_dir)
+                          not failures, failures, result.reason, record_dir,
+                          scenario.known_issue)

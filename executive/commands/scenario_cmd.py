@@ -67,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps([r.as_dict() for r in results], indent=1))
     else:
         print_table(results, [os.path.splitext(os.path.basename(t))[0] for t in trees])
-    return 0 if all(r.passed for r in results) else 1
+    # a scenario with a documented known_issue does not fail the command (the tests xfail it)
+    return 0 if all(r.passed or r.known_issue for r in results) else 1
 
 
 def print_table(results, tree_names: list[str], out=sys.stdout) -> None:
@@ -85,7 +86,7 @@ def print_table(results, tree_names: list[str], out=sys.stdout) -> None:
                 cells.append(f"{'-':{cw}s}")
                 continue
             word = "solved" if r.solved else r.outcome
-            mark = "" if r.passed else " !"
+            mark = "" if r.passed else (" ?" if r.known_issue else " !")
             cells.append(f"{word + f' {r.sim_time:5.1f}s r={len(r.recoveries)}' + mark:{cw}s}")
         out.write(f"{n:{w}s}  " + "  ".join(cells) + "\n")
     for t in tree_names:
@@ -95,5 +96,8 @@ def print_table(results, tree_names: list[str], out=sys.stdout) -> None:
         out.write(f"{t}: solved {solved}/{total}, met expectation {passed}/{total}\n")
     for r in results:
         if not r.passed:
-            out.write(f"! {r.scenario} / {r.tree}: {'; '.join(r.failures)}"
-                      + (f" ({r.reason})" if r.reason else "") + "\n")
+            out.write(f"{'?' if r.known_issue else '!'} {r.scenario} / {r.tree}: "
+                      f"{'; '.join(r.failures)}" + (f" ({r.reason})" if r.reason else "")
+                      + (" [known issue]" if r.known_issue else "") + "\n")
+    if any(not r.passed for r in results):
+        out.write("(! unexpected, ? known issue documented in the scenario file)\n")
