@@ -5,7 +5,8 @@ curving plan, boxes to both sides inflated as costmap_2d would (inscribed 0.22 m
 Figures, per case, over N identical cycles: ``<case>_ms`` the fastest cycle (wall clock; on a
 shared machine the uncontended cost), ``<case>_median_ms`` the median wall clock, ``<case>_cpu_ms``
 the median CPU time of the calling thread (robust to other processes' load), and the number of
-trajectories. Cases: DWA with the ROS defaults (which sample vy too: max_vel_y 0.1), DWA with the
+trajectories. Cases: DWA with the ROS defaults (which sample vy too: max_vel_y 0.1), the same for
+a differential drive (max_vel_y = min_vel_y = 0), DWA with the
 tuning guide's heavy setting (vx 20 x vth 40 samples, sim_time 4.0, sim_granularity 0.025,
 differential drive), the same heavy setting scored exhaustively (no branch and bound, to show what
 it saves), and trajectory rollout with its defaults.
@@ -71,6 +72,8 @@ def main() -> None:
     ap.add_argument("--cycles", type=int, default=200)
     args = ap.parse_args()
     cases = (("dwa_default", "dwa_local_planner/DWAPlannerROS", {}, False),
+             ("dwa_default_diffdrive", "dwa_local_planner/DWAPlannerROS",
+              {"max_vel_y": 0.0, "min_vel_y": 0.0}, False),
              ("dwa_heavy", "dwa_local_planner/DWAPlannerROS", HEAVY, False),
              ("dwa_heavy_exhaustive", "dwa_local_planner/DWAPlannerROS", HEAVY, True),
              ("trajectory_rollout_default", "base_local_planner/TrajectoryPlannerROS", {}, False))
