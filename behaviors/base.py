@@ -258,11 +258,14 @@ def node_classes() -> dict[str, type[NavNode]]:
 
 def make(node_type: str | type[NavNode], name: str = "", namespace: str = "/test",
          children: list[py_trees.behaviour.Behaviour] | None = None,
-         child: py_trees.behaviour.Behaviour | None = None, **ports: Any) -> NavNode:
+         child: py_trees.behaviour.Behaviour | None = None,
+         port_values: dict[str, Any] | None = None, **ports: Any) -> NavNode:
     """Build and wire one node by hand (tests): ``"{key}"`` strings are references.
+    ``port_values`` carries ports whose names clash with these arguments (``namespace``).
 
     >>> make("Wait", wait_duration=2.0)            # doctest: +SKIP
     """
+    ports = {**ports, **(port_values or {})}
     cls = node_classes()[node_type] if isinstance(node_type, str) else node_type
     kwargs: dict[str, Any] = {}
     if issubclass(cls, Control):
