@@ -7,7 +7,7 @@ or is halted, every child is halted, so a later run starts all of them afresh.
 
 from __future__ import annotations
 
-from typing import Iterator
+from typing import Any, Iterator
 
 import py_trees
 
@@ -237,10 +237,18 @@ class RecoveryNode(Control):
       RUNNING: RUNNING. FAILURE: FAILURE.
     Finishing or being halted resets the retry count. The main action thus gets up to
     ``number_of_retries + 1`` attempts. (Nav2 ``RecoveryNode``; exactly two children.)
+
+    With ``reset_after`` > 0 (seconds, a navbt addition), a main child that has kept RUNNING
+    that long since the last recovery counts as recovered: the retry count and the position of
+    any RoundRobin inside the recovery start again (move_base and move_base_flex restart their
+    recovery list once planning or control works again).
     """
 
     INPUT_PORTS = {
         "number_of_retries": PortInformation(int, False, "recoveries before giving up", 1),
+        "reset_after": PortInformation(float, False,
+                                       "s of RUNNING main child that reset the recoveries; "
+                                       "0 = never (Nav2)", 0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     MIN_CHILDREN = 2
@@ -250,6 +258,25 @@ class RecoveryNode(Control):
         super().__init__(*args, **kwargs)
         self._retries = 0
         self._index = 0
+        self._clock = None
+        self._since = 0.0
+
+    def setup(self, **kwargs: Any) -> None:
+        self._clock = kwargs.get("clock")
+
+    def _maybe_reset(self, recovery: Behaviour) -> None:
+        """The main child has been RUNNING ``reset_after`` s since the last recovery: start the
+        recovery list again."""
+        reset_after = self.get_input("reset_after")
+        if reset_after <= 0.0 or self._retries == 0 or self._clock is None:
+            return
+        if self._clock.now() - self._since >= reset_after - 1e-9:  # float sums of periods
+            self._retries = 0
+            for node in recovery.iterate():
+                new_run = getattr(node, "new_run", None)
+                if callable(new_run):
+                    new_run()
+            self.say("main child recovered: recoveries start again")
 
     def tick(self) -> Iterator[Behaviour]:
         if self.status != Status.RUNNING:
@@ -261,6 +288,7 @@ class RecoveryNode(Control):
                 self.current_child = main
                 yield from main.tick()
                 if main.status == Status.RUNNING:
+                    self._maybe_reset(recovery)
                     yield from self._finish(Status.RUNNING)
                     return
                 if main.status == Status.SUCCESS:
@@ -284,6 +312,7 @@ class RecoveryNode(Control):
                     return
                 recovery.stop(Status.INVALID)
                 self._retries += 1
+                self._since = self._clock.now() if self._clock is not None else 0.0
                 self.say(f"recovery {self._retries} of {limit} done, retrying")
                 self._index = 0
 

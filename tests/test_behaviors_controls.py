@@ -192,3 +192,26 @@ def test_if_then_else(cond, expected, branch):
 def test_if_then_without_else_fails_on_false():
     node = build("IfThenElse", [Counter("c", [F], F), Counter("t", [S], S)])
     assert ticks(node, 1) == [F]
+
+
+def test_recovery_node_reset_after_restarts_the_recovery_list():
+    from navcore.clock import SimClock
+    clock = SimClock()
+    # main: fail, run 3 ticks, fail, run 3 ticks, fail ... ; the recovery list is a RoundRobin
+    main = Counter("main", [F, R, R, R, F, R, R, R, F, S], S)
+    a, b = Counter("a", [S] * 5, S), Counter("b", [S] * 5, S)
+    rr = build("RoundRobin", [a, b], wrap_around=False)
+    node = build("RecoveryNode", [main, rr], number_of_retries=1, reset_after=0.1)
+    node.setup(clock=clock)
+    statuses = []
+    for _ in range(7):
+        node.tick_once()
+        statuses.append(node.status)
+        clock.advance(0.05)
+    # each failure is followed by the *first* recovery again: RUNNING long enough resets
+    assert statuses[-1] in (R, S) and F not in statuses
+    assert (a.ticked, b.ticked) == (3, 0)
+    plain = build("RecoveryNode", [Counter("m", [F, R, R, R, F], F),
+                                   Counter("r", [S] * 3, S)], number_of_retries=1)
+    plain.setup(clock=SimClock())
+    assert F in ticks(plain, 5)                       # Nav2 default: no reset, gives up

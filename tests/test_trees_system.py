@@ -248,3 +248,17 @@ def test_interrupt_for_a_new_goal_restarts_the_recovery_list():
     tree.set("goal", Pose2D(0.0, 0.0, 0.0))
     status, _ = run_tree(tree, w)
     assert status == S and w.local_costmap.resets == 2 and runs.done["Spin"] == 0
+
+
+def test_move_base_restarts_its_recovery_list_after_navigating_again():
+    """Control fails for 16 s (past controller_patience), works for 25 s, fails again: like
+    move_base, the second episode starts with the conservative reset again, not rotate."""
+    w = World()
+    t = w.clock.now
+    w.controller = ScriptedController(fail_calls=lambda i: t() < 16.0 or 41.0 <= t() < 57.0,
+                                      parameters=w.parameters["DWAPlannerROS"])
+    far = Pose2D(40.0, 0.0, 0.0)
+    tree, runs = start("move_base", w, goal=far)
+    status, _ = run_tree(tree, w, max_ticks=1400)             # 70 s
+    assert [c[2] for c in w.global_costmap.clear_outside_calls] == [3.0, 3.0]
+    assert runs.done["Spin"] == 0
