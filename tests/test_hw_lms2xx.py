@@ -263,3 +263,25 @@ def test_inverted_mount_reverses_beams(clean_registry) -> None:
         assert wait_until(lambda: drv.scan() is not None, 3.0)
         s = drv.scan()
         assert np.allclose(s.ranges[::-1], np.round(truth(s.angles()) * 100) / 100, atol=0.006)
+
+
+def test_32m_mode_uses_15_range_bits(clean_registry) -> None:
+    clock = WallClock()
+    e = Lms200Emulator(clock, lambda t, a: np.where(np.abs(a) < 0.5, 20.0, 40.0), mm=True)
+    e.config[6] = 0x05                     # 32 m measuring mode (mm units: 15-bit ranges)
+    emu.plug("lms-32", e)
+    with Lms2xxDriver("sim://lms200?id=lms-32", clock) as drv:
+        assert drv.wait_connected(5.0), drv.last_error
+        assert drv.bits == 15
+        assert wait_until(lambda: drv.scan() is not None, 3.0)
+        s = drv.scan()
+        assert s.range_max == pytest.approx(32.76)
+        ahead = np.abs(s.angles()) < 0.45
+        assert np.allclose(s.ranges[ahead], 20.0) and np.all(np.isinf(s.ranges[np.abs(s.angles())
+                                                                               > 0.55]))
+
+
+def test_range_bits_by_mode() -> None:
+    assert [lc.range_bits(m) for m in (0x00, 0x03, 0x06, 0x0F, 0x3F)] == [13, 14, 15, 15, 16]
+    with pytest.raises(lc.LmsError, match="measuring mode 0x07"):
+        lc.range_bits(0x07)

@@ -49,6 +49,7 @@ class Lms2xxDriver(SerialDriver):
                                   p.resolution or (1.0 if model == "lms200" else 0.5))
         self.variant.check()
         self.mm = False
+        self.bits = 13               # range bits of a value, from the measuring mode
         self._dec = lc.TelegramDecoder()
         self._scan: LaserScan | None = None
 
@@ -101,6 +102,10 @@ class Lms2xxDriver(SerialDriver):
         if len(cfg) < 8:
             raise HandshakeError(f"configuration of {len(cfg)} bytes is too short")
         self.mm = cfg[7] == 1
+        try:
+            self.bits = lc.range_bits(cfg[6])
+        except lc.LmsError as e:
+            raise HandshakeError(str(e)) from None
         self._transact(port, 0x20, b"\x24")                         # continuous output
         self._dec.reset()
 
@@ -115,7 +120,7 @@ class Lms2xxDriver(SerialDriver):
             if not isinstance(t, lc.Telegram) or t.cmd != 0xB0:
                 continue
             try:
-                sv = lc.parse_scan(t, self.variant.count)
+                sv = lc.parse_scan(t, self.variant.count, self.bits)
             except lc.LmsError as e:
                 self._reject(str(e))
                 continue

@@ -165,17 +165,32 @@ class ScanValues:
     unit_m: float
     partial: int
     status: int
+    bits: int = 13
 
 
 def encode_scan(values: np.ndarray, mm: bool, status: int = 0x10) -> bytes:
-    """A 0xB0 reply telegram with ``values`` (13-bit ranges) in mm or cm (emulator side)."""
+    """A 0xB0 reply telegram with ``values`` (the mode's range bits) in mm or cm (emulator side)."""
     v = np.asarray(values, dtype="<u2")
     count = len(v) | ((1 << 14) if mm else 0)
     return reply(0x30, struct.pack("<H", count) + v.tobytes(), status)
 
 
-def parse_scan(t: Telegram, expected_count: int | None = None) -> ScanValues:
-    """Check and decode a 0xB0 telegram (8/80 m modes: 13-bit ranges, 3 field bits)."""
+def range_bits(measuring_mode: int) -> int:
+    """Bits of a value that carry the range, by measuring mode (configuration byte 6):
+    8/80 m modes 13 (3 field bits above), 16 m modes 14, 32 m modes 15, reflectivity 16."""
+    if measuring_mode in (0x00, 0x01, 0x02):
+        return 13
+    if measuring_mode in (0x03, 0x04):
+        return 14
+    if measuring_mode in (0x05, 0x06, 0x0F):
+        return 15
+    if measuring_mode == 0x3F:
+        return 16
+    raise LmsError(f"measuring mode {measuring_mode:#04x} unknown")
+
+
+def parse_scan(t: Telegram, expected_count: int | None = None, bits: int = 13) -> ScanValues:
+    """Check and decode a 0xB0 telegram; ``bits`` of each value are range (``range_bits``)."""
     if t.cmd != 0xB0:
         raise LmsError(f"not a scan telegram: cmd {t.cmd:#04x}")
     if len(t.data) < 2:
@@ -189,26 +204,32 @@ def parse_scan(t: Telegram, expected_count: int | None = None) -> ScanValues:
     if expected_count is not None and n != expected_count:
         raise LmsError(f"scan has {n} values, the variant gives {expected_count}")
     raw = np.frombuffer(t.data, dtype="<u2", offset=2)
-    return ScanValues(raw & 0x1FFF, 0.001 if units == 1 else 0.01, (word >> 11) & 0x7, t.status)
+    return ScanValues(raw & ((1 << bits) - 1), 0.001 if units == 1 else 0.01, (word >> 11) & 0x7,
+                      t.status, bits)
 
 
-def header(variant: Variant, mm: bool) -> dict[str, float]:
+def header(variant: Variant, mm: bool, bits: int = 13) -> dict[str, float]:
     """LaserScan header fields as sicktoolbox_wrapper publishes them (tuning guide 5.1):
-    0.0..81 m for cm units (8.1 m for mm), 75 Hz, time_increment = scan_time / (360 * res)."""
+    75 Hz, time_increment = scan_time / (360 * res), 0.0 to 81 m in the default 8/80 m mode
+    with cm units (8.1 m with mm); the 16 m and 32 m modes reach 16.38 / 32.76 m (x10 in cm)."""
     scan_time = 1.0 / MIRROR_HZ
+    top = {13: 8.1, 14: 16.38, 15: 32.76, 16: 65.53}[bits] * (1.0 if mm else 10.0)
     half = math.radians(variant.angle / 2.0)
     return dict(angle_min=-half, angle_max=half, angle_increment=math.radians(variant.resolution),
                 time_increment=scan_time / (360.0 * variant.resolution), scan_time=scan_time,
-                range_min=0.0, range_max=8.1 if mm else 81.0)
+                range_min=0.0, range_max=top)
 
 
 def to_laser_scan(scan: ScanValues, variant: Variant, stamp: float,
                   frame_id: str = "laser") -> LaserScan:
-    """Values -> LaserScan. Codes 0x1FF7 and up: 0x1FF7 (beyond maximum) is +inf, the others
-    (dazzle, overflow, low SNR, channel errors) NaN, as REP 117 asks."""
+    """Values -> LaserScan. The top eight codes of the range field (0x1FF7 and up with 13 bits):
+    the first (beyond maximum) is +inf, the others (dazzle, overflow, low SNR, channel errors)
+    NaN, as REP 117 asks. Reflectivity mode (16 bits) has no codes."""
     v = scan.values
     r = v.astype(np.float32) * np.float32(scan.unit_m)
-    r[v >= 0x1FF7] = np.nan
-    r[v == 0x1FF7] = np.inf
+    if scan.bits < 16:
+        beyond = (1 << scan.bits) - 9
+        r[v >= beyond] = np.nan
+        r[v == beyond] = np.inf
     return LaserScan(stamp=stamp, ranges=r, frame_id=frame_id,
-                     **header(variant, scan.unit_m == 0.001))
+                     **header(variant, scan.unit_m == 0.001, scan.bits))

@@ -41,9 +41,10 @@ class Lms2xxEmulator(Emulator):
         super().__init__(clock)
         self.ranges_source = ranges_source
         self.boot_variant = variant
-        self.boot_mm = mm
         self.requests: list[int] = []       # command bytes of every accepted telegram
         self.naks = 0
+        self.config = bytearray(32)           # kept in EEPROM: survives power cycles
+        self.config[7] = 1 if mm else 0
         self.power_cycle()
 
     def power_cycle(self) -> None:
@@ -53,9 +54,7 @@ class Lms2xxEmulator(Emulator):
         self.mode = 0x25
         self.install = False
         self.variant = self.boot_variant
-        self.mm = self.boot_mm
-        self.config = bytearray(32)
-        self.config[7] = 1 if self.mm else 0
+        self.mm = bool(self.config[7])
         self._next = self.clock.now()
         self._rng = np.random.default_rng(0)
 
@@ -136,8 +135,9 @@ class Lms2xxEmulator(Emulator):
         angles = np.radians(-v.angle / 2.0 + v.resolution * np.arange(v.count))
         r = np.asarray(self.ranges_source(t, angles), dtype=np.float64)
         unit = 0.001 if self.mm else 0.01
+        beyond = (1 << lc.range_bits(self.config[6])) - 9
         vals = np.where(np.isfinite(r), np.round(r / unit), np.inf)
-        vals = np.where(vals > 0x1FF6, 0x1FF7, vals).astype(np.int64)   # beyond maximum
+        vals = np.where(vals >= beyond, beyond, vals).astype(np.int64)   # beyond maximum
         return lc.encode_scan(vals, self.mm)
 
     def advance(self, now: float) -> None:
