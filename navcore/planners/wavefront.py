@@ -45,13 +45,13 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 
 
 # The push rule (navfn's, plus the overflow upgrade), applied to each neighbour m (old potential
-# pm) of a cell that just got potential p, written out inline in ``propagate``. It is branch-free
-# (at the wave front the outcome is a coin flip, and mispredictions dominated the run time): m is
-# always stored at the end of both queues and only the count of the queue it belongs to advances.
-# pending is 0 idle, 1 queued in current/next, 2 queued in overflow, 4 border (never queued).
-# ``tn`` is 1 when p is below the threshold (queue in next), else 0 (overflow). A cell waiting in
-# overflow that a below-threshold cell can lower is queued in next too, so the band finishes it
-# (ROS leaves it waiting); its overflow entry becomes a harmless repeat.
+# pm) of a cell that just got potential p, written out inline in ``propagate``: queue m when
+# pm > p + cost(m)/sqrt(2) (cost +inf: impassable). It is branch-free within a neighbour (at the
+# wave front the outcome is a coin flip, and mispredictions dominated the run time): m is always
+# stored at the end of the queue and only the count advances when it belongs there. pending is
+# 0 idle, 1 queued in current/next, 2 queued in overflow, 4 border (never queued). Below the
+# threshold m goes to next, also when it waits in overflow (so the band finishes it; ROS leaves
+# it waiting, and its overflow entry becomes a harmless repeat); above it, to overflow.
 
 
 @njit(cache=True)
@@ -96,8 +96,8 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
     while cycle < max_cycles:
         if ncur == 0:
             break
-        # every update below may store into both queues (see _queue), so keep 4 slots per
-        # update free in the overflow queue, whose repeats can outgrow the map
+        # every update may store 4 entries past the end of the overflow queue (see the push
+        # rule), and overflow repeats can outgrow the map: keep room for them
         if nover + 4 * ncur + 8 > over.shape[0]:
             over = _grown(over, nover + 4 * ncur + 8)
         if from_over:
@@ -134,52 +134,59 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
                 continue
             pot[n] = p
             tn = np.intp(p < t)
-            # _queue's rule, written out per neighbour (left, right, -nx, +nx): passing the
-            # arrays to a helper costs reference counting in this loop
-            m = n - one
-            cm = lut[costs[m]]
-            pq = np.intp(pending[m])
-            ok = np.intp(l > p + _INVSQRT2 * cm)
-            okn = ok & tn & np.intp((pq & 5) == 0)
-            oko = ok & (1 - tn) & np.intp(pq == 0)
-            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
-            nxt[nnext] = m
-            over[nover] = m
-            nnext += okn
-            nover += oko
-            m = n + one
-            cm = lut[costs[m]]
-            pq = np.intp(pending[m])
-            ok = np.intp(r > p + _INVSQRT2 * cm)
-            okn = ok & tn & np.intp((pq & 5) == 0)
-            oko = ok & (1 - tn) & np.intp(pq == 0)
-            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
-            nxt[nnext] = m
-            over[nover] = m
-            nnext += okn
-            nover += oko
-            m = n - unx
-            cm = lut[costs[m]]
-            pq = np.intp(pending[m])
-            ok = np.intp(u > p + _INVSQRT2 * cm)
-            okn = ok & tn & np.intp((pq & 5) == 0)
-            oko = ok & (1 - tn) & np.intp(pq == 0)
-            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
-            nxt[nnext] = m
-            over[nover] = m
-            nnext += okn
-            nover += oko
-            m = n + unx
-            cm = lut[costs[m]]
-            pq = np.intp(pending[m])
-            ok = np.intp(d > p + _INVSQRT2 * cm)
-            okn = ok & tn & np.intp((pq & 5) == 0)
-            oko = ok & (1 - tn) & np.intp(pq == 0)
-            pending[m] = np.uint8(pq + okn * (1 - pq) + oko * 2)
-            nxt[nnext] = m
-            over[nover] = m
-            nnext += okn
-            nover += oko
+            # the push rule above, per neighbour (left, right, -nx, +nx), written out: passing
+            # the arrays to a helper costs reference counting in this loop. Below the threshold
+            # (nearly always, so well predicted) only next is touched, else only overflow.
+            if tn:
+                m = n - one
+                pq = np.intp(pending[m])
+                okn = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
+                pending[m] = np.uint8(pq + okn * (1 - pq))
+                nxt[nnext] = m
+                nnext += okn
+                m = n + one
+                pq = np.intp(pending[m])
+                okn = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
+                pending[m] = np.uint8(pq + okn * (1 - pq))
+                nxt[nnext] = m
+                nnext += okn
+                m = n - unx
+                pq = np.intp(pending[m])
+                okn = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
+                pending[m] = np.uint8(pq + okn * (1 - pq))
+                nxt[nnext] = m
+                nnext += okn
+                m = n + unx
+                pq = np.intp(pending[m])
+                okn = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
+                pending[m] = np.uint8(pq + okn * (1 - pq))
+                nxt[nnext] = m
+                nnext += okn
+            else:
+                m = n - one
+                pq = np.intp(pending[m])
+                oko = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
+                pending[m] = np.uint8(pq + 2 * oko)
+                over[nover] = m
+                nover += oko
+                m = n + one
+                pq = np.intp(pending[m])
+                oko = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
+                pending[m] = np.uint8(pq + 2 * oko)
+                over[nover] = m
+                nover += oko
+                m = n - unx
+                pq = np.intp(pending[m])
+                oko = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
+                pending[m] = np.uint8(pq + 2 * oko)
+                over[nover] = m
+                nover += oko
+                m = n + unx
+                pq = np.intp(pending[m])
+                oko = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
+                pending[m] = np.uint8(pq + 2 * oko)
+                over[nover] = m
+                nover += oko
         tmp = cur
         cur = nxt
         nxt = tmp
