@@ -35,8 +35,8 @@ ROBOT_PARAMS: tuple[Param, ...] = (
     Param("robot_radius", 0.0, float, "circular robot radius (m), used when footprint is []",
           min=0.0, max=5.0),
     Param("devices", "sim", str, "'sim' for the simulator (real devices: see 'base'/'laser' URLs)"),
-    Param("base", "", str, "pyserial URL of the base driver (with devices: hw)"),
-    Param("laser", "", str, "pyserial URL of the laser driver (with devices: hw)"),
+    Param("base", "", str, "URL of the base driver (from devices: {base: ...})"),
+    Param("laser", "", str, "URL of the laser driver (from devices: {laser: ...})"),
 )
 
 MOVE_BASE_PARAMS: tuple[Param, ...] = (
@@ -159,6 +159,7 @@ class RobotConfig:
     safety: Parameters
     namespaces: dict[str, dict[str, Any]] = field(default_factory=dict)
     parameters: dict[str, Parameters] = field(default_factory=dict)
+    devices: dict[str, Any] = field(default_factory=dict)  # robot.devices for hw.devices
 
     def ns(self, name: str) -> dict[str, Any]:
         """The user's values for a component namespace ({} when absent)."""
@@ -244,6 +245,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
         raise ConfigError(f"{source}: the robot config must be a mapping of namespaces, "
                           f"got {type(doc).__name__}")
     known = set(OWN_NAMESPACES) | set(COMPONENT_NAMESPACES) | {SIM_NAMESPACE}
+    device_map: dict[str, Any] = {}
     values: dict[str, Parameters] = {}
     raw: dict[str, dict[str, Any]] = {}
     for ns, body in doc.items():
@@ -255,14 +257,16 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
             raise ConfigError(f"{source}: {ns}: must be a mapping of parameters, got {body!r}")
         body = dict(body)
         if ns == "robot" and isinstance(body.get("devices"), Mapping):
-            # devices: {base: URL, laser: URL} is the short form of devices: hw + base/laser.
+            # devices: {base: URL, laser: URL, imu: ...} (hw/devices.py) means real hardware
             dev = dict(body.pop("devices"))
             body["devices"] = "hw"
             for k, v in dev.items():
-                if k not in ("base", "laser"):
+                if k not in ("base", "laser", "imu"):
                     raise ConfigError(f"{source}: robot: devices: unknown device '{k}'"
-                                      f"{suggest(str(k), ('base', 'laser'))}")
-                body[k] = v
+                                      f"{suggest(str(k), ('base', 'laser', 'imu'))}")
+                if k in ("base", "laser"):
+                    body[k] = v if isinstance(v, str) else str(dict(v).get("url", ""))
+            device_map = dev
         raw[ns] = body
         if ns == SIM_NAMESPACE:
             continue  # checked below, once the footprint is known
@@ -304,7 +308,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
             _check_costmap(raw[ns], ns, values["robot"], source)
     component_params = {ns: p for ns, p in values.items() if ns not in OWN_NAMESPACES}
     return RobotConfig(source, values["robot"], values["move_base"], values["safety"], raw,
-                       component_params)
+                       component_params, device_map)
 
 
 def load_config(path: str | os.PathLike | None = None) -> RobotConfig:

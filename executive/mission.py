@@ -89,6 +89,49 @@ def _simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: W
     return sim
 
 
+class HardwareIO:
+    """RobotIO over real drivers (hw/devices.py): no ground truth, contacts from the bumper."""
+
+    def __init__(self, devices: dict[str, Any]) -> None:
+        self.devices = devices
+        self.base = devices["base"]
+        self.laser = devices.get("laser")
+
+    def step_to(self, t: float) -> None:
+        pass  # the drivers' reader threads keep the newest messages
+
+    def true_pose(self) -> Pose2D | None:
+        return None
+
+    def in_collision(self) -> bool:
+        return bool(self.base.events().bumper)
+
+    def close(self) -> None:
+        from hw.devices import close_devices
+        close_devices(self.devices)
+
+
+def amcl_estimator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D | None,
+                   mount: Pose2D, rng: np.random.Generator) -> tuple[Any, Any]:
+    """AMCL (navcore.localization) as the executive's estimator: map pose = map->odom (+) odom.
+
+    The filter starts at ``start`` unless the config gives ``initial_pose_*``."""
+    from navcore.localization.amcl import Amcl
+    params = config.ns("amcl")
+    if start is not None:
+        params.setdefault("initial_pose_x", start.x)
+        params.setdefault("initial_pose_y", start.y)
+        params.setdefault("initial_pose_a", start.theta)
+    amcl = Amcl(grid, params, rng)
+
+    def estimate(odom: Any, scan: Any, now: float) -> Pose2D | None:
+        if odom is None:
+            return None
+        amcl.update(odom.pose, scan, mount)
+        return amcl.map_to_odom().compose(odom.pose)
+    return amcl, estimate
+
+
 class SimIO:
     """RobotIO over the simulator."""
 
@@ -152,13 +195,14 @@ def _bbox(shape: Shape) -> tuple[float, float, float, float]:
     return x - r, y - r, x + r, y + r
 
 
-def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, start: Pose2D, *,
+def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
+                  start: Pose2D | None, *,
                   world: World | None = None, seed: int = 0, realtime: bool = False,
-                  recorder: Recorder | None = None, meta: dict[str, Any] | None = None
-                  ) -> Mission:
+                  recorder: Recorder | None = None, meta: dict[str, Any] | None = None,
+                  hardware: bool = False) -> Mission:
     """Load the tree, build every component from ``config`` and put them in an Executive."""
     world = world or World()
-    clock: Clock = WallClock() if realtime else SimClock()
+    clock: Clock = WallClock() if realtime or hardware else SimClock()
     rng = np.random.default_rng(seed)
     from executive.executive import _mission_ids  # shared counter keeps namespaces unique
     namespace = f"/mission_{next(_mission_ids)}"
@@ -169,20 +213,32 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
         controller = _controller(config, local_cm)
     except ImportError as e:
         raise WiringError(f"component not available: {e}") from None
-    if config.robot.devices != "sim":
-        raise WiringError(f"{config.source}: robot: devices: hw is only available through "
-                          "`mission run --hw` with drivers installed")
-    sim = _simulator(config, grid, start, world, clock, rng)
-    io = SimIO(sim)
+    sim = None
+    if hardware:
+        if config.robot.devices != "hw" or "base" not in config.devices:
+            raise WiringError(f"{config.source}: robot: devices: give {{base: URL, laser: URL}} "
+                              "to drive real hardware")
+        from hw.devices import DeviceConfigError, open_devices
+        try:
+            io: Any = HardwareIO(open_devices(config.devices, clock))
+        except (DeviceConfigError, OSError) as e:
+            raise WiringError(f"{config.source}: {e}") from None
+        mount = getattr(io.laser, "mount", Pose2D())
+    else:
+        sim = _simulator(config, grid, start or Pose2D(), world, clock, rng)
+        io = SimIO(sim)
+        mount = sim.config.laser.mount if sim.config.laser is not None else Pose2D()
+    localizer, estimator = None, None
+    if "amcl" in config.namespaces or hardware:
+        localizer, estimator = amcl_estimator(config, grid, start, mount, rng)
     components = {
         "global_costmap": global_cm,
         "local_costmap": local_cm,
         "planners": {"GridBased": planner},
         "controllers": {"FollowPath": controller},
-        "localizer": None,
+        "localizer": localizer,
         "parameters": config.all_parameters(),
     }
-    mount = sim.config.laser.mount if sim.config.laser is not None else Pose2D()
 
     periods = {id(global_cm): _update_period(global_cm), id(local_cm): _update_period(local_cm)}
     due = {id(global_cm): -math.inf, id(local_cm): -math.inf}
@@ -211,8 +267,10 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid, star
     state: dict[str, Any] = {}
     ex = Executive(tree, io, clock, config.control_period(), components,
                    safety=SafetyGate(config.safety), recorder=recorder, perceivers=[perceive],
+                   estimator=estimator,
                    namespace=namespace, meta=dict(meta or {}, tree=os.path.abspath(tree_path),
-                                                  start=[start.x, start.y, start.theta]))
+                                                  start=None if start is None
+                                                  else [start.x, start.y, start.theta]))
     return Mission(ex, grid, config, sim, components, world, tree_path)
 
 

@@ -248,7 +248,7 @@ def test_run_to_goals_and_errors(tmp_path, capsys):
     assert code == 1 and err.startswith("mission run: ") and "bad.yaml" in err
     assert "Wiat" in err and len(err.strip().splitlines()) == 1
     code, _, err = run_cli(capsys, "run", tree, "--map", m, "--goal", "6,1,0", "--hw")
-    assert code == 1 and "--hw" in err
+    assert code == 1 and "robot: devices: give {base: URL, laser: URL}" in err
 
 
 @needs_loader

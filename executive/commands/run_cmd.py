@@ -36,9 +36,6 @@ def run(args: argparse.Namespace) -> int:
         config = load_config(args.config)
     except ConfigError as e:
         return fail("run", str(e))
-    if args.hw:
-        return fail("run", f"{config.source}: --hw needs robot.devices: {{base: URL, laser: URL}} "
-                           "and the hardware drivers; this build runs the simulator only")
     try:
         grid = load_map(args.map)
     except MapError as e:
@@ -46,20 +43,23 @@ def run(args: argparse.Namespace) -> int:
     for i, g in enumerate(args.goal):
         if grid.world_to_map(g.x, g.y) is None:
             return fail("run", f"--goal {g.x:g},{g.y:g}: outside the map {args.map}")
-    start = args.start or free_start(grid)
+    # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
+    start = args.start if args.hw else (args.start or free_start(grid))
     log = None
     if args.record:
         from executive.run_folder import open_log
         log = open_log(args.record)
     try:
         mission = build_mission(args.tree, config, grid, start, seed=args.seed,
-                                realtime=args.realtime, recorder=Recorder(log))
+                                realtime=args.realtime, recorder=Recorder(log), hardware=args.hw)
     except (TreeLoadError, WiringError) as e:
         return fail("run", str(e))
     progress = Progress()
     result = run_mission(mission, list(args.goal), args.time_limit,
                          on_tick=progress_callback(progress, args.time_limit))
     progress.done()
+    if args.hw:
+        mission.executive.io.close()
     if log is not None:
         log.close()
         from executive.run_folder import finish
