@@ -105,7 +105,7 @@ def accuracy() -> dict[str, float]:
     """Replay figures (the same runs as tests/test_amcl_logs.py, on whole logs)."""
     import importlib.util
     spec = importlib.util.spec_from_file_location(
-        "replay", Path(__file__).resolve().parent.parent / "tests" / "amcl_replay.py")
+        "replay", Path(__file__).resolve().parent.parent / "tests" / "test_amcl_logs.py")
     replay = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(replay)
     out: dict[str, float] = {}
