@@ -101,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
             ms = clock_ms(lambda: planner.make_plan(start, goal), args.repeat)
             out[f"{name}_{n}_ms"] = round(ms, 2)
             cpp = CPP_MS[name].get(n)
-            print(f"{name:26s} {n:5d}^2  {ms:8.2f} ms  (C++ {cpp} ms, x{cpp / ms:.2f})  "
+            print(f"{name:26s} {n:5d}^2  {ms:8.2f} ms  (C++ {cpp} ms: speed-up x{cpp / ms:.2f})  "
                   f"path {len(r.path)} poses {r.path.length():.1f} m  "
                   f"updates/cell {planner.last_updates / (n * n):.2f}")
     root = FsPath(__file__).resolve().parents[1]
