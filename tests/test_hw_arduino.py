@@ -145,19 +145,23 @@ def test_watchdog_stops_motors_within_one_period(clean_registry) -> None:
         assert t_stop <= t_last + timeout + 0.011     # the stop does not wait for a poll
 
 
-def test_pty_and_garbled_replies(clean_registry) -> None:
+@pytest.mark.parametrize("faults", [dict(garbage=0.3, corrupt=0.01), dict(drop=0.02),
+                                    dict(host_corrupt=0.01, host_drop=0.01)])
+def test_pty_and_line_faults(clean_registry, faults: dict) -> None:
     clock = WallClock()
     e = ArduinoBridgeEmulator(clock)
     link = emu.Link(e, emu.Faults(), seed=2)
     with PtyDevice(link) as dev, ArduinoBaseDriver(dev.port_name, clock,
                                                    {"base_controller_rate": 20.0}) as d:
         assert d.wait_connected(3.0), d.last_error
-        link.faults.garbage, link.faults.corrupt = 0.3, 0.01
+        for k, v in faults.items():
+            setattr(link.faults, k, v)
         drive(d, Twist(0.1, 0.0, 0.3), 1.0)
-        link.faults.garbage = link.faults.corrupt = 0.0
+        link.faults = emu.Faults()
         drive(d, Twist(), 0.3)
         wait_until(lambda: False, 0.2)
-        assert d.rejected > 0
+        assert d.rejected > 0 and d._thread.is_alive()
+        assert e.targets == (0, 0)                     # the stop got through once clean
         # a corrupted count that slipped through as a small error would leave a small offset;
         # a large one is refused by the plausibility gate
         true_th = (e.encoders[1] - e.encoders[0]) / d.geometry.ticks_per_meter / 0.2969
