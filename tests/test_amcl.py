@@ -230,3 +230,31 @@ def test_laser_mount_is_composed_into_each_particle() -> None:
         amcl.update(Pose2D(), scan, mount)
     assert amcl.pose().distance_to(base) < 0.08
     assert abs(amcl.pose().theta - base.theta) < 0.05
+
+
+def test_beam_skipping_ignores_beams_that_hit_an_unmapped_obstacle() -> None:
+    """likelihood_field_prob with do_beamskip: once converged, beams whose end points most
+    particles find far from any mapped obstacle are left out, so a person in front of the robot
+    does not drag the weights."""
+    from navcore.localization.laser_models import hit_table, likelihood_field_prob
+    pose = Pose2D(3.0, 3.0, 0.0)
+    scan = sim_scan(GRID, pose)
+    ranges = scan.ranges.astype(np.float64)
+    bearings = scan.angles()
+    ranges_blocked = ranges.copy()
+    ranges_blocked[:40] = 0.7  # a third of the beams hit something not in the map
+    dist = distance_field(GRID.data, GRID.resolution, 2.0)
+    table = hit_table(dist, 0.95, 0.05, 0.2, 12.0)
+    geom = np.array([0.0, 0.0, 1.0, 0.0, GRID.resolution])
+    rng = np.random.default_rng(10)
+    parts = np.c_[3.0 + rng.normal(0, 0.03, (200, 2)), rng.normal(0, 0.01, 200)]
+
+    def weights(r: np.ndarray, skip: bool) -> np.ndarray:
+        w = np.full(200, 1 / 200)
+        likelihood_field_prob(parts, w, r, bearings, np.zeros(3), table, dist, geom,
+                              0.95 * math.exp(-4 / 0.08) + 0.05 / 12, 12.0, skip, 0.5, 0.3, 0.9)
+        return w / w.sum()
+    clean = weights(np.r_[np.full(40, 12.0), ranges[40:]], False)  # those beams never seen
+    skipped = weights(ranges_blocked, True)
+    np.testing.assert_allclose(skipped, clean, rtol=1e-9)
+    assert not np.allclose(weights(ranges_blocked, False), clean, rtol=1e-3)
