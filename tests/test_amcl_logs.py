@@ -13,7 +13,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from hw.logplayback import LogPlayback, map_from_log, read_carmen
 from navcore.clock import SimClock

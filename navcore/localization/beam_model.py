@@ -1,6 +1,7 @@
 """amcl's beam range-finder model (``BeamModel``), with ranges predicted by navcore.raycast.
 
-As in amcl's ``map_calc_range``, a beam stops at the first cell that is occupied *or unknown*.
+As in amcl's ``map_calc_range``, a beam stops at the first cell that is occupied *or unknown*
+(one difference: a beam leaving the map reads range_max here, where amcl stops at the edge).
 Per beam: pz = z_hit N(obs - map_range) + z_short (if short) + z_max (if max reading) +
 z_rand/range_max (if not), and the scan weight is amcl's ad-hoc p = 1 + sum(pz^3).
 """
@@ -23,7 +24,8 @@ def beam_model(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
     """Multiply ``weights`` by the beam-model likelihood; return the new total.
 
     ``clear`` is ``navcore.raycast.clearance_field`` of the grid whose occupied *and unknown*
-    cells block (it lets rays leap through free space); ``grid`` is (origin x, origin y, cos yaw, sin yaw, resolution) of the map.
+    cells block (it lets rays leap through free space); ``grid`` is (origin x, origin y,
+    cos yaw, sin yaw, resolution) of the map.
     """
     n = particles.shape[0]
     nb = ranges.shape[0]
