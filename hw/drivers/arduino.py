@@ -93,7 +93,7 @@ class ArduinoBaseDriver(SerialDriver):
             port.write(line)
             dec = ac.LineDecoder(b"\r")
             deadline = wire_deadline(0.3)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 got = dec.feed(port.read(max(1, port.in_waiting)))
                 if got:
                     return got[0]

@@ -93,7 +93,7 @@ class KobukiDriver(SerialDriver):
         for _ in range(3):
             port.write(kc.request_extra_frame(0x01 | 0x02 | 0x08))
             deadline = wire_deadline(0.15)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 self._take(port.read(max(1, port.in_waiting)))
                 if self.versions or (self.polling and self.feedback is not None):
                     return          # in lock-step the clock will not move while we wait

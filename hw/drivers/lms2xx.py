@@ -65,7 +65,7 @@ class Lms2xxDriver(SerialDriver):
             port.write(lc.request(cmd, data))
             dec = lc.TelegramDecoder()
             deadline = wire_deadline(timeout)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 for item in dec.feed(port.read(max(1, port.in_waiting))):
                     if item == lc.NAK:
                         deadline = wire_deadline(0.0)     # resend at once

@@ -73,7 +73,7 @@ class RazorDriver(LineImuDriver):
             port.write(f"#o0#ox#s{self._token:02d}".encode())
             dec = LineDecoder(b"\n")
             deadline = wire_deadline(0.3)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 if tok in dec.feed(port.read(max(1, port.in_waiting))):
                     port.write(b"#o1")
                     self._lines.reset()

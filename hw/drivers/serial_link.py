@@ -114,6 +114,13 @@ class SerialDriver:
         """A valid message arrived: resets the silence timer."""
         self._last_valid = self.clock.now()
 
+    def _waiting(self, deadline: Timeout) -> bool:
+        """For reply loops in handshakes: True while ``deadline`` runs; a ``close()`` meanwhile
+        aborts the handshake at once instead of letting it finish its retries."""
+        if self._stop.is_set():
+            raise HandshakeError("driver closing")
+        return not deadline.expired()
+
     def _reject(self, why: str) -> None:
         self.rejected += 1
         self.last_error = why

@@ -66,7 +66,7 @@ class Urg04lxDriver(SerialDriver):
             port.write(line)
             dec = scip.ScipDecoder()
             deadline = wire_deadline(REPLY_TIMEOUT)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 for rep in dec.feed(port.read(max(1, port.in_waiting))):
                     if rep.echo == echo:
                         if rep.status in ok:
@@ -78,7 +78,7 @@ class Urg04lxDriver(SerialDriver):
         """Read until the line stays quiet for ``quiet`` seconds (or 1 s at most)."""
         total = wire_deadline(1.0)
         q = wire_deadline(quiet)
-        while not total.expired() and not q.expired():
+        while self._waiting(total) and not q.expired():
             if port.read(max(1, port.in_waiting)):
                 q = wire_deadline(quiet)
 

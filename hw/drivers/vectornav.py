@@ -48,7 +48,7 @@ class VectorNavDriver(LineImuDriver):
             port.write(vc.write_register(reg, value))
             dec = LineDecoder(b"\n")
             deadline = wire_deadline(0.3)
-            while not deadline.expired():
+            while self._waiting(deadline):
                 for line in dec.feed(port.read(max(1, port.in_waiting))):
                     try:
                         if ",".join(vc.split_sentence(line)) == want:
