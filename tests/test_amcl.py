@@ -258,3 +258,28 @@ def test_beam_skipping_ignores_beams_that_hit_an_unmapped_obstacle() -> None:
     skipped = weights(ranges_blocked, True)
     np.testing.assert_allclose(skipped, clean, rtol=1e-9)
     assert not np.allclose(weights(ranges_blocked, False), clean, rtol=1e-3)
+
+
+def test_likelihood_field_matches_amcls_formula_within_the_table_quantisation() -> None:
+    a = Amcl(GRID, {"max_particles": 500}, np.random.default_rng(11))
+    a.set_initial_pose(Pose2D(3, 3, 0.2), np.diag([0.3, 0.3, 0.1]))
+    scan = sim_scan(GRID, Pose2D(3, 3, 0.2))
+    parts = a.particles.copy()
+    mount = Pose2D(0.1, 0.05, 0.3)
+    a._sensor_update(scan, mount)
+    r, b, rmax = a._beams(scan)
+    ok = r < rmax
+    expect = []
+    for x, y, t in parts:  # amcl's LikelihoodFieldModel written out plainly
+        lx = x + math.cos(t) * mount.x - math.sin(t) * mount.y
+        ly = y + math.sin(t) * mount.x + math.cos(t) * mount.y
+        ex = lx + r[ok] * np.cos(t + mount.theta + b[ok])
+        ey = ly + r[ok] * np.sin(t + mount.theta + b[ok])
+        mx, my = np.floor(ex / 0.05).astype(int), np.floor(ey / 0.05).astype(int)
+        inside = (mx >= 0) & (my >= 0) & (mx < GRID.width) & (my < GRID.height)
+        d = a._dist[np.clip(my, 0, GRID.height - 1), np.clip(mx, 0, GRID.width - 1)]
+        z = np.where(inside, d, 2.0)
+        pz = 0.95 * np.exp(-z ** 2 / (2 * 0.2 ** 2)) + 0.05 / rmax
+        expect.append(1.0 + np.sum(pz ** 3))
+    expect = np.array(expect) / np.sum(expect)
+    np.testing.assert_allclose(a.weights, expect, rtol=1e-4)

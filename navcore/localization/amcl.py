@@ -22,7 +22,7 @@ import numpy as np
 from navcore.localization.amcl_params import AMCL_PARAMS
 from navcore.localization.clusters import cluster_stats
 from navcore.localization.distance_field import distance_field
-from navcore.localization.laser_models import (hit_table, likelihood_field,
+from navcore.localization.laser_models import (cube_table, hit_table, likelihood_field,
                                                 likelihood_field_prob)
 from navcore.localization.motion_models import MODEL_CODES, sample_motion
 from navcore.localization.resampling import kld_resample
@@ -226,6 +226,7 @@ class Amcl:
             if key != self._table_for:
                 self._table = hit_table(self._dist, p.laser_z_hit, p.laser_z_rand,
                                         p.laser_sigma_hit, rmax)
+                self._cubes, self._cube_scale = cube_table(self._table)
                 self._table_for = key
             d = self._dist_for
             # an end point off the map counts as max_occ_dist away from any obstacle
@@ -233,7 +234,8 @@ class Amcl:
                 p.laser_z_rand / rmax
             if model == "likelihood_field":
                 total = likelihood_field(self.particles, self.weights, ranges, bearings, m,
-                                         self._table, self._geom, off_map, rmax)
+                                         self._cubes, self._cube_scale, self._geom, off_map,
+                                         rmax)
             else:
                 total = likelihood_field_prob(
                     self.particles, self.weights, ranges, bearings, m, self._table, self._dist,
