@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from hw.interfaces import BaseEvents, BatteryState
+from navcore.clock import Clock
 from navcore.maps import OCCUPIED, UNKNOWN, OccupancyGrid
 from navcore.types import LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
@@ -217,7 +218,7 @@ class LogPlayback:
     A log cannot be steered: ``send`` only records the last command (``last_cmd``).
     """
 
-    def __init__(self, log: CarmenLog, clock, range_max: float = 50.0,
+    def __init__(self, log: CarmenLog, clock: Clock, range_max: float = 50.0,
                  time_offset: float = 0.0) -> None:
         if not range_max > 0.0:
             raise ValueError(f"LogPlayback: range_max must be > 0, got {range_max}")

@@ -283,3 +283,13 @@ def test_likelihood_field_matches_amcls_formula_within_the_table_quantisation() 
         expect.append(1.0 + np.sum(pz ** 3))
     expect = np.array(expect) / np.sum(expect)
     np.testing.assert_allclose(a.weights, expect, rtol=1e-4)
+
+
+def test_bad_input_in_the_control_loop_is_refused_with_a_reason() -> None:
+    a = Amcl(GRID, {"max_particles": 200}, np.random.default_rng(12))
+    scan = sim_scan(GRID, Pose2D(3.0, 3.0, 0.0))
+    assert a.update(Pose2D(math.nan, 0.0, 0.0), scan, Pose2D()) is False
+    assert "not finite" in a.last_error
+    broken = LaserScan(0.0, -1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, np.array([1.0, 1.0, 1.0]))
+    assert a.update(Pose2D(), broken, Pose2D()) is False and "range_max" in a.last_error
+    assert a.update(Pose2D(), scan, Pose2D()) is True

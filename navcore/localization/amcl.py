@@ -60,6 +60,7 @@ class Amcl:
         self.converged = False
         self.n_effective = 0.0
         self.updates = 0  # sensor updates done
+        self.last_error = ""  # why the last update() was refused, if it was
         self.set_map(grid)
         p = self.params
         cov = np.diag([p.initial_cov_xx, p.initial_cov_yy, p.initial_cov_aa])
@@ -143,10 +144,20 @@ class Amcl:
         update_min_d (in x or y) or update_min_a since the last scan update, on the first scan
         after (re)initialisation, and after request_nomotion_update.
 
-        With ``scan`` None this is ``predict(odom_pose)`` and returns False.
+        With ``scan`` None this is ``predict(odom_pose)`` and returns False. A non-finite odometry
+        pose or an unusable scan is refused (False, reason in ``last_error``), never raised:
+        this runs in the control loop.
         """
+        if not all(math.isfinite(v) for v in (odom_pose.x, odom_pose.y, odom_pose.theta)):
+            self.last_error = f"odometry pose is not finite: {odom_pose}"
+            return False
         if scan is None:
             self.predict(odom_pose)
+            return False
+        if not scan.range_max > 0.0 or len(scan.ranges) < 2:
+            # a broken scan must not stop the control loop: skip it and say why
+            self.last_error = (f"scan unusable: range_max {scan.range_max}, "
+                               f"{len(scan.ranges)} ranges")
             return False
         p = self.params
         ref = self._odom_sensor
@@ -207,8 +218,6 @@ class Amcl:
     def _sensor_update(self, scan: LaserScan, mount: Pose2D) -> None:
         p = self.params
         ranges, bearings, rmax = self._beams(scan)
-        if not rmax > 0.0:
-            raise ValueError(f"amcl: scan range_max must be > 0, got {rmax}")
         m = np.array([mount.x, mount.y, mount.theta])
         model = p.laser_model_type
         if model == "beam":
