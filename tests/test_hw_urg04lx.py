@@ -59,7 +59,8 @@ def test_startup_and_streaming_over_sim_url(clean_registry) -> None:
     with Urg04lxDriver("sim://urg04lx?id=urg-a", clock) as drv:
         assert isinstance(drv, Laser)
         assert drv.wait_connected(3.0), drv.last_error
-        assert link.emulator.commands == ["QT", "SCIP2.0", "TM2", "RS", "PP", "MD0044072501000"]
+        assert link.emulator.commands == ["QT", "SCIP2.0", "TM2", "RS", "SS115200", "PP",
+                                          "MD0044072501000"]
         scans = collect(drv, 3)
         assert len(scans) == 3 and drv.rejected == 0
         s = scans[-1]
@@ -183,3 +184,15 @@ def test_bad_url_is_reported_not_raised(clean_registry) -> None:
     with Urg04lxDriver("sim://nosuchdevice", clock) as drv:
         assert not drv.wait_connected(0.3)
         assert "unknown emulated device" in drv.last_error and drv.scan() is None
+
+
+@pytest.mark.parametrize("left_at", [19200, 38400, 115200])
+def test_rs232_unit_is_found_at_its_rate_and_switched(clean_registry, left_at: int) -> None:
+    clock = WallClock()
+    e = Urg04lxEmulator(clock, source, rs232=True)
+    e.device_baud = left_at                           # where a previous session left it
+    emu.plug("urg-r", e)
+    with Urg04lxDriver("sim://urg04lx?id=urg-r", clock, {"serial_baud": 57600}) as drv:
+        assert drv.wait_connected(5.0), drv.last_error
+        assert e.device_baud == 57600 and e.baudrate == 57600
+        assert len(collect(drv, 2)) == 2

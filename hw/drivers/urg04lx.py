@@ -1,8 +1,9 @@
 """Hokuyo URG-04LX driver over SCIP 2.0: implements ``hw.interfaces.Laser``.
 
-Start-up follows urg_c / hokuyo_node: ``QT`` (stop any stream) and drain, ``SCIP2.0`` (in case
-the unit booted in SCIP 1.1), ``TM2`` and ``RS`` (leave time-adjust mode, reset), ``PP`` (read the
-geometry), then one ``MD`` request for continuous 3-character scans. Each scan is fully checked by
+Start-up follows urg_c / hokuyo_node: find the bit rate with ``QT`` (which also stops any
+stream) and drain, ``SCIP2.0`` (in case the unit booted in SCIP 1.1), ``TM2`` and ``RS`` (leave
+time-adjust mode, reset), ``SS`` to ``serial_baud`` (RS-232 units; USB ones ignore it), ``PP``
+(read the geometry), then one ``MD`` request for continuous 3-character scans. Each scan is fully checked by
 the codec; a scan whose sensor time stamp does not advance is dropped as stale.
 """
 
@@ -29,7 +30,8 @@ URG_PARAMS = (
     Param("skip", 0, int, "skip this many scans between transmitted scans", 0, 9),
     Param("frame_id", "laser", str, "frame of the published scans"),
     Param("time_offset", 0.0, float, "seconds added to every scan stamp", -1.0, 1.0),
-    Param("serial_baud", 115200, int, "bit rate (ignored by USB units)", 9600, 750000),
+    Param("serial_baud", 115200, int, "bit rate of RS-232 units (USB units ignore it)",
+          choices=(19200, 38400, 57600, 115200, 250000, 500000, 750000)),
 )
 
 REPLY_TIMEOUT = 0.3     # urg_c uses about 140 ms; a loaded CI machine needs slack
@@ -82,14 +84,33 @@ class Urg04lxDriver(SerialDriver):
             if port.read(max(1, port.in_waiting)):
                 q = wire_deadline(quiet)
 
+    def _find_rate(self, port: serial.SerialBase) -> None:
+        """Find the bit rate the sensor listens at (as urg_c does): send QT at each rate and
+        look for its echo; a USB unit answers at any rate."""
+        for baud in dict.fromkeys((self.params.serial_baud, 19200, 38400, 115200)):
+            port.baudrate = baud
+            port.write(b"QT\n")          # also stops a stream left running
+            seen = b""
+            deadline = wire_deadline(REPLY_TIMEOUT)
+            while self._waiting(deadline):
+                seen = (seen + port.read(max(1, port.in_waiting)))[-4096:]
+                if b"QT\n" in seen:
+                    return
+        raise HandshakeError("no QT echo at 19200, 38400 or 115200 bit/s")
+
     def _handshake(self, port: serial.SerialBase) -> None:
-        port.write(b"QT\n")
+        self._find_rate(port)
         self._drain(port)
         port.reset_input_buffer()
         port.write(b"SCIP2.0\n")       # harmless in SCIP 2.0, switches a SCIP 1.1 unit
         self._drain(port)
         self._transact(port, b"TM2\n", ok=("00", "03"))
         self._transact(port, b"RS\n")
+        port.baudrate = 19200           # RS restored the default rate (RS-232 units)
+        if self.params.serial_baud != 19200:
+            self._transact(port, f"SS{self.params.serial_baud:06d}\n".encode(),
+                           ok=("00", "03", "04"))
+            port.baudrate = self.params.serial_baud
         info = self._transact(port, b"PP\n").info()
         try:
             self.geometry = scip.UrgGeometry.from_pp(info)

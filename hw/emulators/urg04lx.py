@@ -45,11 +45,13 @@ class Urg04lxEmulator(Emulator):
     device = "urg04lx"
 
     def __init__(self, clock: Clock, ranges_source: RangesSource = default_ranges,
-                 scip1_at_boot: bool = False, timer_offset_ms: int = 0,
+                 scip1_at_boot: bool = False, timer_offset_ms: int = 0, rs232: bool = False,
                  stale_every: int = 0) -> None:
         super().__init__(clock)
         self.ranges_source = ranges_source
         self.scip1_at_boot = scip1_at_boot
+        self.rs232 = rs232               # the RS-232 model: bit rates matter (USB ignores them)
+        self._garble = np.random.default_rng(0)
         self.timer_offset_ms = timer_offset_ms
         self.stale_every = stale_every
         self._inbuf = bytearray()
@@ -60,6 +62,7 @@ class Urg04lxEmulator(Emulator):
         super().power_cycle()
         self._inbuf = bytearray()
         self.scip2 = not self.scip1_at_boot
+        self.device_baud = 19200
         self.laser_on = False
         self.tm_mode = False
         self.job: scip.ScanRequest | None = None
@@ -73,7 +76,17 @@ class Urg04lxEmulator(Emulator):
     def timer_ms(self, now: float) -> int:
         return (int((now - self._t0) * 1000.0) + self.timer_offset_ms) % scip.TIME_WRAP
 
+    def _garbled(self) -> bool:
+        return self.rs232 and self.baudrate is not None and self.baudrate != self.device_baud
+
+    def emit(self, data: bytes) -> None:
+        if self._garbled():   # at the wrong bit rate the host sees framing errors, not text
+            data = self._garble.integers(0x80, 0x100, len(data), dtype=np.uint8).tobytes()
+        super().emit(data)
+
     def receive(self, data: bytes) -> None:
+        if self._garbled():
+            data = self._garble.integers(0x80, 0x100, len(data), dtype=np.uint8).tobytes()
         self._inbuf += data
         while True:
             idx = [i for i in (self._inbuf.find(b"\n"), self._inbuf.find(b"\r")) if i >= 0]
@@ -132,7 +145,9 @@ class Urg04lxEmulator(Emulator):
         if cmd == "RS":
             self.laser_on, self.job, self._t0 = False, None, now
             self.timer_offset_ms = 0
-            return self._reply(line, "00")
+            self._reply(line, "00")
+            self.device_baud = 19200                  # RS restores the default bit rate
+            return
         if cmd == "TM":
             if par == "0":
                 self.tm_mode, self.laser_on, self.job = True, False, None
@@ -147,7 +162,20 @@ class Urg04lxEmulator(Emulator):
                 self.tm_mode = False
                 return self._reply(line, st)
             return self._reply(line, "01")
-        if cmd in ("SS", "CR", "HS"):
+        if cmd == "SS":
+            if not (par.isdigit() and len(par) == 6):
+                return self._reply(line, "01")
+            rate = int(par)
+            if rate not in (19200, 38400, 57600, 115200, 250000, 500000, 750000):
+                return self._reply(line, "02")
+            if not self.rs232:
+                return self._reply(line, "00")       # USB: accepted, nothing to change
+            if rate == self.device_baud:
+                return self._reply(line, "03")
+            self._reply(line, "00")
+            self.device_baud = rate                   # after the reply, as the sensor does
+            return
+        if cmd in ("CR", "HS"):
             return self._reply(line, "00" if par.isdigit() else "01")
         if cmd in ("MD", "MS", "GD", "GS"):
             return self._scan_command(line, cmd, par, now)
