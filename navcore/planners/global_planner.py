@@ -127,7 +127,6 @@ class GlobalPlanner:
         g = self._to_map(goal)
         if g is None:
             return PlanResult.failure("goal_outside_map")
-        sc = cm.world_to_map(start.x, start.y)
         gc = cm.world_to_map(goal.x, goal.y)
         nx, ny = cm.size_x, cm.size_y
         ws = self._ws

@@ -6,7 +6,8 @@ otherwise to ``overflow``; when current and next are empty the threshold rises b
 and the overflow becomes current. The update is navfn's quadratic (planar-wave) one or the plain
 ``min(4 neighbours) + cost``.
 
-Deliberate differences from the C++ (each fixes a real fault; none changes a converged value):
+Deliberate differences from the C++ (the first three fix real faults; none changes a converged
+value):
 
 * The buffers hold the whole map, so no push is ever dropped (ROS caps them at 10000 and silently
   loses cells on large open maps).
@@ -16,6 +17,8 @@ Deliberate differences from the C++ (each fixes a real fault; none changes a con
   the first cycle that touches the target. Every update only raises potential (by at least 0.704
   of a cell cost), so all cells below a finished band are final: the target's potential is the
   converged (for the plain update: the exact Dijkstra) value, not a first-touch estimate.
+* A queue filled as ``next`` has its cells' flags cleared one by one as they come up, not all at
+  the start of the cycle, so a cell lowered earlier in the same cycle is not queued again.
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
 planner's cost transform), so no transformed copy of the map is made per plan. Cells whose
@@ -56,8 +59,8 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 
 @njit(cache=True)
 def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: np.ndarray,
-              nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray,
-              buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
+              nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray,
+              buf_b: np.ndarray, buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
               max_cycles: int, quadratic: bool) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
