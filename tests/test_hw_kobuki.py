@@ -294,3 +294,15 @@ def test_spin_integrates_heading() -> None:
     assert len(frames) == 50
     # speed 115 mm/s on each wheel in opposite senses: 2 * 0.115 / 0.230 = 1 rad/s
     assert math.radians(frames[-1].heading_cdeg / 100) == pytest.approx(1.0, abs=2e-4)
+
+
+def test_acceleration_limit_ramps_the_wheels() -> None:
+    clock = SimClock()
+    e = KobukiEmulator(clock, accel_limit=1.0)
+    e.receive(kc.base_control_frame(300, 0))
+    clock.advance(0.1)
+    e.advance(clock.now())
+    assert e._wheels == (pytest.approx(0.1), pytest.approx(0.1))     # 5 ticks of 0.02 m/s
+    clock.advance(0.5)
+    e.advance(clock.now())
+    assert e._wheels == (pytest.approx(0.3), pytest.approx(0.3))

@@ -32,8 +32,10 @@ class KobukiEmulator(Emulator):
     device = "kobuki"
 
     def __init__(self, clock: Clock, motion_source: MotionSource = ideal_wheels,
-                 battery_v: float = 16.5, drain_v_per_s: float = 0.0) -> None:
+                 battery_v: float = 16.5, drain_v_per_s: float = 0.0,
+                 accel_limit: float | None = None) -> None:
         super().__init__(clock)
+        self.accel_limit = accel_limit         # m/s^2 per wheel; None: speeds change at once
         self.motion_source = motion_source
         self.battery_v = battery_v
         self.drain_v_per_s = drain_v_per_s
@@ -57,6 +59,7 @@ class KobukiEmulator(Emulator):
         self._left = self._right = 0.0       # encoder ticks, fractional
         self.heading = 0.0                     # rad
         self._rate = 0.0
+        self._wheels = (0.0, 0.0)              # wheel speeds in force (m/s)
         self.pose = (0.0, 0.0, 0.0)            # ground truth from the wheels, for tests
         self._extras = 0
         self.bad_frames = 0
@@ -91,6 +94,12 @@ class KobukiEmulator(Emulator):
 
     def _step(self, dt: float) -> None:
         vl, vr = kc.speed_radius_to_wheels(self.speed, self.radius)
+        if self.accel_limit is not None:
+            step = self.accel_limit * dt
+            ol, orr = self._wheels
+            vl = ol + max(-step, min(step, vl - ol))
+            vr = orr + max(-step, min(step, vr - orr))
+        self._wheels = (vl, vr)
         dl, dr = self.motion_source(dt, vl, vr)
         self._left += dl * kc.TICKS_PER_M
         self._right += dr * kc.TICKS_PER_M
