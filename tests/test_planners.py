@@ -387,3 +387,19 @@ def test_carrot_planner_with_the_costmap_footprint_cost() -> None:
     assert 2.7 < x < 2.81  # the 0.4 m square's front edge stops short of the wall
     cm.costs[:, 40:] = 254  # the costmap changes: the planner reads it at call time
     assert cp.make_plan(Pose2D(1.0, 2.5), Pose2D(3.5, 2.5)).path.poses[1, 0] < 1.8
+
+
+@pytest.mark.parametrize("kind,params", [
+    ("navfn/NavfnROS", {}), ("global_planner/GlobalPlanner", {}),
+    ("global_planner/GlobalPlanner", {"use_grid_path": True, "use_dijkstra": False})])
+def test_degenerate_plans(kind: str, params: dict) -> None:
+    cm = Costmap2D(50, 40, 0.1)
+    p = make_planner(kind, cm, params)
+    same = p.make_plan(Pose2D(1.0, 1.0), Pose2D(1.0, 1.0, 0.5))
+    assert same.ok and tuple(same.path.poses[-1]) == pytest.approx((1.0, 1.0, 0.5))
+    near = p.make_plan(Pose2D(1.0, 1.0), Pose2D(1.04, 1.02))  # same cell
+    assert near.ok and len(near.path) == 2
+    assert near.path.pose(0).distance_to(Pose2D(1.0, 1.0)) < 0.1
+    assert tuple(near.path.poses[-1, :2]) == pytest.approx((1.04, 1.02))
+    # the outer border is never planned through (navfn's COST_OBS border, outline_map)
+    assert p.make_plan(Pose2D(1.0, 1.0), Pose2D(4.99, 3.99)).reason == "goal_occupied"

@@ -43,7 +43,11 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
 
 
 def diagnose(passable: np.ndarray, goal_cell: tuple[int, int] | None, updates: int) -> str:
-    """Why no plan: the goal cell impassable, the wave never left the start, or no connection."""
-    if goal_cell is not None and not passable[goal_cell[1], goal_cell[0]]:
-        return "goal_occupied"
+    """Why no plan: the goal cell impassable (the map's outer border counts: the planners never
+    enter it), the wave never left the start, or no connection."""
+    if goal_cell is not None:
+        gx, gy = goal_cell
+        ny, nx = passable.shape
+        if not passable[gy, gx] or gx in (0, nx - 1) or gy in (0, ny - 1):
+            return "goal_occupied"
     return "no_path" if updates > 0 else "start_occupied"

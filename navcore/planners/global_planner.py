@@ -191,8 +191,10 @@ class GlobalPlanner:
             return PlanResult.failure("no_path", potential)
         off = 0.0 if p.old_navfn_behavior else 0.5
         pts = xy[::-1]
-        if not p.old_navfn_behavior and len(pts) > 1:
-            pts = pts[:-1]  # the descent began exactly at the goal, which is appended below
+        if not p.old_navfn_behavior:
+            # the descent began exactly at the goal, which is appended below; a start in the
+            # goal's own cell leaves nothing else, so the start itself leads
+            pts = pts[:-1] if len(pts) > 1 else np.array([[sx, sy]])
         poses = np.zeros((len(pts) + 1, 3))
         poses[:-1, 0] = cm.origin_x + (pts[:, 0] + off) * cm.resolution
         poses[:-1, 1] = cm.origin_y + (pts[:, 1] + off) * cm.resolution
