@@ -23,27 +23,33 @@ def _clearance(grid) -> np.ndarray:
 
 
 def pick_start_goal(grid, config):
-    """The most open free cell, and a reachable open cell 2.5..5 m from it."""
+    """The most open free cell, and a reachable open cell 2..5 m from it in open space."""
     from executive.config import make_costmap
     from navcore.planners import make_planner
     from navcore.types import Pose2D
     d = _clearance(grid)
     sy, sx = np.unravel_index(int(np.argmax(d)), d.shape)
     start = Pose2D(*grid.map_to_world(sx + 0.5, sy + 0.5), 0.0)
-    ys, xs = np.nonzero(d >= 0.6)
+    ys, xs = np.nonzero(d >= 0.5)
     wx = grid.origin.x + (xs + 0.5) * grid.resolution
     wy = grid.origin.y + (ys + 0.5) * grid.resolution
     dist = np.hypot(wx - start.x, wy - start.y)
-    ok = (dist >= 2.5) & (dist <= 5.0)
+    ok = (dist >= 2.0) & (dist <= 5.0)
     order = np.argsort(-d[ys[ok], xs[ok]])
     g = config.ns("global_costmap")
     g.setdefault("footprint", [list(p) for p in config.footprint()])
     cm = make_costmap(g, grid, "global_costmap")
     cm.update_map(start)
     planner = make_planner("navfn/NavfnROS", cm.costmap, {})
-    for i in order[:50]:
+    for i in order[:400]:
         goal = Pose2D(float(wx[ok][i]), float(wy[ok][i]),
                       math.atan2(wy[ok][i] - start.y, wx[ok][i] - start.x))
+        # open space all the way: this test is about the loop, not about tight spots
+        t = np.linspace(0.0, 1.0, 40)
+        cx = ((start.x + t * (goal.x - start.x) - grid.origin.x) / grid.resolution).astype(int)
+        cy = ((start.y + t * (goal.y - start.y) - grid.origin.y) / grid.resolution).astype(int)
+        if np.min(d[cy, cx]) < 0.45:
+            continue
         if planner.make_plan(start, goal).ok:
             return start, goal
     pytest.skip("no reachable goal 2.5..5 m from the start")
@@ -69,7 +75,7 @@ def test_tree_reaches_goal_on_real_map(shared_data, map_name, tree, tmp_path):
                                            f"ended at {truth}")
     assert truth.distance_to(goal) < 0.5
     assert result.collisions == 0
-    assert result.distance >= 0.9 * start.distance_to(goal)
+    assert result.distance >= start.distance_to(goal) - 0.3  # xy_goal_tolerance 0.25
     m.executive.shutdown()
 
 
