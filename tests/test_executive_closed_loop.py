@@ -14,7 +14,7 @@ import pytest
 from tests.conftest import REAL_MAPS
 
 TREES = ["move_base", "nav2", "smach_recovery", "near_goal_reconfigure"]
-MAPS = ["turtlebot3_world", "aws_small_house"]
+MAPS = ["robotis_office", "aws_small_house"]
 
 
 def _clearance(grid) -> np.ndarray:
