@@ -197,6 +197,14 @@ def test_validate_render_convert_shipped_trees(tmp_path, capsys):
     assert "<root" in xml.read_text()
     code, out, err = run_cli(capsys, "validate", str(xml))
     assert code == 0, err
+    back = tmp_path / "back.yaml"
+    code, _, err = run_cli(capsys, "convert", str(xml), "-o", str(back))
+    assert code == 0, err
+    assert back.read_text().startswith("main_tree:")
+    code, out, err = run_cli(capsys, "validate", str(back))
+    assert code == 0, err
+    code, _, err = run_cli(capsys, "convert", str(tmp_path / "missing.xml"))
+    assert code == 1 and "missing.xml: no such tree file" in err
 
 
 @needs_loader
