@@ -142,7 +142,8 @@ class Executive:
                  control_period: float, components: dict[str, Any] | None = None, *,
                  safety: SafetyGate | None = None, recorder: Recorder | None = None,
                  estimator: Estimator | None = None, perceivers: list[Perceiver] | None = None,
-                 namespace: str | None = None, meta: dict[str, Any] | None = None) -> None:
+                 namespace: str | None = None, meta: dict[str, Any] | None = None,
+                 wall_clock: Clock | None = None) -> None:
         if control_period <= 0:
             raise ValueError(f"Executive: control_period must be > 0, got {control_period}")
         self.tree = tree
@@ -160,7 +161,8 @@ class Executive:
         self.tick_count = 0
         self.last_cmd = Twist.zero()
         self._meta = dict(meta or {})
-        self._wall = WallClock()  # only to measure overruns, never to decide anything
+        # only to measure overruns, never to decide anything
+        self._wall = wall_clock if wall_clock is not None else WallClock()
         self._events: list[dict[str, Any]] = []
         self._failed_nodes: set[int] = set()
         self._bb = py_trees.blackboard.Client(name=f"executive{self.namespace}",

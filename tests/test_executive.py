@@ -293,3 +293,28 @@ def test_run_folder_files(tmp_path):
     assert (20, 150, 40) in colours      # trajectory drawn
     assert (230, 120, 0) in colours      # recovery marker
     assert b"<svg" in (tmp_path / "run" / "tree.svg").read_bytes()
+
+
+def test_overrun_is_recorded():
+    class SlowWall:
+        """Each reading is 0.15 s later: every tick takes longer than the 0.1 s period."""
+
+        def __init__(self):
+            self.t = 0.0
+
+        def now(self):
+            self.t += 0.15
+            return self.t
+
+        def sleep_until(self, t):
+            pass
+
+    stream = io.StringIO()
+    ex = Executive(py_trees.trees.BehaviourTree(DriveToGoal("drive")), FakeIO(), SimClock(), 0.1,
+                   recorder=Recorder(stream), wall_clock=SlowWall())
+    ex.set_goal(Pose2D(1.0, 0.0))
+    for _ in range(3):
+        ex.step()
+    lines = [json.loads(s) for s in stream.getvalue().splitlines()[1:]]
+    assert [ln["overrun_ms"] for ln in lines] == [150.0, 150.0, 150.0]
+    assert ex.trace.overruns == 3
