@@ -237,7 +237,8 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
         "planners": {"GridBased": planner},
         "controllers": {"FollowPath": controller},
         "localizer": localizer,
-        "parameters": config.all_parameters(),
+        "parameters": live_parameters(config, global_cm, local_cm, planner, controller,
+                                      localizer),
     }
 
     periods = {id(global_cm): _update_period(global_cm), id(local_cm): _update_period(local_cm)}
@@ -272,6 +273,24 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
                                                   start=None if start is None
                                                   else [start.x, start.y, start.theta]))
     return Mission(ex, grid, config, sim, components, world, tree_path)
+
+
+def live_parameters(config: RobotConfig, global_cm: Any, local_cm: Any, planner: Any,
+                    controller: Any, localizer: Any) -> dict[str, Any]:
+    """ROS namespace -> the live Parameters object each component reads (SetParameters's view).
+
+    The components' own objects, not copies: a change takes effect at their next cycle."""
+    out: dict[str, Any] = dict(config.all_parameters())
+    for cm in (global_cm, local_cm):
+        if hasattr(cm, "parameter_namespaces"):
+            out.update(cm.parameter_namespaces())
+    if getattr(planner, "params", None) is not None:
+        out[config.global_planner_namespace()] = planner.params
+    if getattr(controller, "params", None) is not None:
+        out[config.local_planner_namespace()] = controller.params
+    if localizer is not None and getattr(localizer, "params", None) is not None:
+        out["amcl"] = localizer.params
+    return out
 
 
 def _update_period(cm: Any) -> float:

@@ -139,3 +139,23 @@ def test_hardware_path_with_emulated_devices():
         assert ex.robot.pose().distance_to(Pose2D(5.0, 2.5)) < 1.0
     finally:
         ex.io.close()
+
+
+def test_setparameters_reaches_the_live_components():
+    """The ``parameters`` handed to the tree are the components' own objects."""
+    from executive.config import DEFAULT_CONFIG, load_config
+    from executive.mission import build_mission
+    from navcore.maps import load_map
+    from navcore.types import Pose2D
+    grid = load_map(DEFAULT_CONFIG.parent / "maps" / "two_rooms.yaml")
+    m = build_mission(str(DEFAULT_CONFIG.parent.parent.parent / "trees" / "smach_recovery.yaml"),
+                      load_config(), grid, Pose2D(5.0, 2.5, 0.0))
+    params = m.components["parameters"]
+    controller = m.components["controllers"]["FollowPath"]
+    assert params["DWAPlannerROS"] is controller.params
+    assert params["NavfnROS"] is m.components["planners"]["GridBased"].params
+    assert "local_costmap/inflation_layer" in params and "move_base" in params
+    previous = params["DWAPlannerROS"].set({"path_distance_bias": 5.0})
+    assert controller.params.path_distance_bias == 5.0
+    params["DWAPlannerROS"].set(previous)
+    m.executive.shutdown()
