@@ -53,13 +53,13 @@ def test_simulate_constant_arc_and_ramped_velocity():
     samples = np.array([[0.5, 0.0, 0.5]])
     steps = np.array([10])
     pts, cmd, _ = simulate(samples, steps, 1.0, 2.0, 0.0, np.zeros(3), np.array([2.5, 2.5, 3.2]),
-                        1.0, CONSTANT)
+                           1.0, CONSTANT, 0.0)
     assert pts.shape == (1, 10, 3)
     assert pts[0, 0].tolist() == [1.0, 2.0, 0.0]            # the start pose is the first point
     assert pts[0, -1, 2] == pytest.approx(0.5 * 0.9)         # the final integration is not kept
     assert cmd[0].tolist() == [0.5, 0.0, 0.5]
     pts_r, cmd_r, _ = simulate(samples, steps, 0.0, 0.0, 0.0, np.zeros(3),
-                            np.array([2.5, 2.5, 3.2]), 1.0, RAMPED)
+                               np.array([2.5, 2.5, 3.2]), 1.0, RAMPED, 0.0)
     assert cmd_r[0, 0] == pytest.approx(0.25)                # first ramped step: a * dt
     assert np.nanmax(pts_r[0, :, 0]) < np.nanmax(pts[0, :, 0] - 1.0) + 1e-9  # slower start
 
@@ -130,7 +130,8 @@ def test_fused_grid_critics_equal_the_critic_chain(seed, align, goal):
                 chain.append((scale, grid_critic(pts, k, n, grid, 0.0, 0.0, 0.05, shift, stop)))
         neg = [c for _, c in chain if c < 0]
         expected = neg[0] if neg else sum(s * c for s, c in chain)
-        got, _ = grid_critics(pts, nose, k, n, 0.0, 0.0, 0.05, path_g, goal_g, front_g, w, costs)
+        got, _ = grid_critics(pts, nose, k, n, 0.0, 0.0, 0.05, path_g, goal_g, front_g, w, costs,
+                              0)
         assert got == pytest.approx(expected)
 
 

@@ -33,7 +33,6 @@ it was dropped, as ROS's own early exit reports.
 
 from __future__ import annotations
 
-import heapq
 import math
 
 import numpy as np
@@ -239,6 +238,46 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
 
 
 @njit(cache=True, nogil=True)
+def _heap_push(keys: np.ndarray, ids: np.ndarray, size: int, key: float, k: int) -> int:
+    """Push (key, k) on the binary min-heap held in ``keys``/``ids``; ties order by k. New size."""
+    i = size
+    while i > 0:
+        parent = (i - 1) // 2
+        if keys[parent] < key or (keys[parent] == key and ids[parent] < k):
+            break
+        keys[i] = keys[parent]
+        ids[i] = ids[parent]
+        i = parent
+    keys[i] = key
+    ids[i] = k
+    return size + 1
+
+
+@njit(cache=True, nogil=True)
+def _heap_pop(keys: np.ndarray, ids: np.ndarray, size: int) -> int:
+    """Remove the smallest entry (read it from keys[0], ids[0] first). New size."""
+    size -= 1
+    key = keys[size]
+    k = ids[size]
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        if child + 1 < size and (keys[child + 1] < keys[child] or (
+                keys[child + 1] == keys[child] and ids[child + 1] < ids[child])):
+            child += 1
+        if key < keys[child] or (key == keys[child] and k < ids[child]):
+            break
+        keys[i] = keys[child]
+        ids[i] = ids[child]
+        i = child
+    keys[i] = key
+    ids[i] = k
+    return size
+
+
+@njit(cache=True, nogil=True)
 def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.ndarray,
               costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
               footprint: np.ndarray, path_grid: np.ndarray, goal_grid: np.ndarray,
@@ -286,16 +325,21 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     # only while its bound is the lowest of all bounds known (heap) or knowable (the next cheap
     # bound, which every later trajectory reaches). Bounds never exceed the final cost, even in
     # floating point: each level adds to the same base.
-    heap = [(0.0, 0, 0)]
-    heap.pop()
+    heap_keys = np.empty(k_n)
+    heap_ids = np.empty(k_n, dtype=np.int64)
+    heap_n = 0
+    level_of = np.zeros(k_n, dtype=np.int8)  # 1 once a trajectory's grid pass is done
     partial = np.zeros(k_n)
     j = 0
     while True:
         next_cheap = np.inf
         if j < k_n and state[order[j]] != REJECTED:
             next_cheap = cheap[order[j]]
-        if len(heap) > 0 and heap[0][0] <= next_cheap:
-            b2, k, level = heapq.heappop(heap)
+        if heap_n > 0 and heap_keys[0] <= next_cheap:
+            b2 = heap_keys[0]
+            k = heap_ids[0]
+            level = level_of[k]
+            heap_n = _heap_pop(heap_keys, heap_ids, heap_n)
         elif next_cheap < np.inf:
             k = order[j]
             j += 1
@@ -325,7 +369,8 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
             base_of[k] = c + twirl_s * abs(vels[k, 2])
             partial[k] = cmax
             scores[k] = base_of[k] + occ_s * cmax
-            heapq.heappush(heap, (scores[k], k, 1))
+            level_of[k] = 1
+            heap_n = _heap_push(heap_keys, heap_ids, heap_n, scores[k], k)
             continue
         fp = footprint
         s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])

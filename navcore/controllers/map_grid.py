@@ -119,9 +119,9 @@ def distance_grid(costs: np.ndarray, seeds: np.ndarray, passable: np.ndarray) ->
     """
     size_y, size_x = costs.shape
     n = size_x * size_y
-    flat = costs.ravel()
+    flat = costs.reshape(n)  # reshape, not ravel: same view, far less to compile
     use_pass = passable.shape[0] == size_y and passable.shape[1] == size_x
-    pas = passable.ravel() if use_pass else np.zeros(1, dtype=np.bool_)
+    pas = passable.reshape(passable.size)
     dist = np.full(n, n + 1, dtype=np.int32)
     queue = np.empty(n, dtype=np.int32)
     tail = 0

@@ -87,7 +87,9 @@ def filter_and_steps(samples: np.ndarray, sim_time: float, sim_granularity: floa
                               w * sim_time / angular_sim_granularity)))
         if n <= 0:
             continue
-        kept[k] = samples[i]
+        kept[k, 0] = samples[i, 0]
+        kept[k, 1] = samples[i, 1]
+        kept[k, 2] = samples[i, 2]
         steps[k] = n
         k += 1
     return kept[:k].copy(), steps[:k].copy()
