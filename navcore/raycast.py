@@ -19,6 +19,8 @@ import math
 import numpy as np
 from numba import njit
 
+from navcore.distance_transform import squared_edt
+
 _INF = np.inf
 
 
@@ -125,64 +127,17 @@ def cast_rays(occ: np.ndarray, origin_x: float, origin_y: float, resolution: flo
 
 
 @njit(cache=True)
-def _edt_1d(f: np.ndarray, out: np.ndarray, v: np.ndarray, z: np.ndarray) -> None:
-    """Squared distance transform of one line (Felzenszwalb & Huttenlocher's lower envelope)."""
-    n = f.shape[0]
-    k = 0
-    v[0] = 0
-    z[0] = -_INF
-    z[1] = _INF
-    for q in range(1, n):
-        while True:
-            p = v[k]
-            s = ((f[q] + q * q) - (f[p] + p * p)) / (2.0 * q - 2.0 * p)
-            if s <= z[k] and k > 0:
-                k -= 1
-            else:
-                break
-        if s <= z[k]:  # k == 0 and the new parabola dominates everywhere so far
-            v[0] = q
-            z[0] = -_INF
-            z[1] = _INF
-            continue
-        k += 1
-        v[k] = q
-        z[k] = s
-        z[k + 1] = _INF
-    k = 0
-    for q in range(n):
-        while z[k + 1] < q:
-            k += 1
-        d = q - v[k]
-        out[q] = d * d + f[v[k]]
-
-
-@njit(cache=True)
 def distance_field(occ: np.ndarray) -> np.ndarray:
     """Exact Euclidean distance (in cells, float32) from each cell centre to the nearest blocked
     cell centre; 1e9 where the grid has no blocked cell at all. Computed once per static map, it
     lets ``cast_ray_df`` leap through open space."""
     h, w = occ.shape
-    big = 1e18
-    n = max(h, w)
-    f = np.empty(n, np.float64)
-    out = np.empty(n, np.float64)
-    v = np.empty(n, np.int64)
-    z = np.empty(n + 1, np.float64)
-    sq = np.empty((h, w), np.float64)
-    for c in range(w):
-        for r in range(h):
-            f[r] = 0.0 if occ[r, c] else big
-        _edt_1d(f[:h], out[:h], v, z)
-        for r in range(h):
-            sq[r, c] = out[r]
+    sq = squared_edt(occ)
+    none = float(h * h + w * w)  # squared_edt's value when nothing is blocked exceeds this
     res = np.empty((h, w), np.float32)
     for r in range(h):
         for c in range(w):
-            f[c] = sq[r, c]
-        _edt_1d(f[:w], out[:w], v, z)
-        for c in range(w):
-            res[r, c] = math.sqrt(out[c]) if out[c] < big * 0.5 else 1e9
+            res[r, c] = math.sqrt(sq[r, c]) if sq[r, c] <= none else 1e9
     return res
 
 

@@ -10,7 +10,8 @@ import pytest
 from navcore.costmap.cost_values import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE,
                                          NO_INFORMATION)
 from navcore.costmap.inflation import (InflationLayer, cell_inflation_radius, compute_cost,
-                                       cost_table, inflate, squared_distance_transform)
+                                       cost_table, inflate)
+from navcore.distance_transform import squared_distance_transform
 from navcore.params import ParameterError
 
 RES, INSCRIBED, RADIUS, CSF = 0.05, 0.2, 0.55, 10.0

@@ -232,68 +232,6 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
     return scratch
 
 
-@njit(cache=True, nogil=True)
-def _edt_1d(f: np.ndarray, n: int, d: np.ndarray, v: np.ndarray, z: np.ndarray) -> None:
-    k = 0
-    v[0] = 0
-    z[0] = -1e300
-    z[1] = 1e300
-    for q in range(1, n):
-        while True:
-            p = v[k]
-            s = ((f[q] + q * q) - (f[p] + p * p)) / (2.0 * (q - p))
-            if s <= z[k]:
-                k -= 1
-            else:
-                break
-        k += 1
-        v[k] = q
-        z[k] = s
-        z[k + 1] = 1e300
-    k = 0
-    for q in range(n):
-        while z[k + 1] < q:
-            k += 1
-        d[q] = (q - v[k]) * (q - v[k]) + f[v[k]]
-
-
-@njit(cache=True, nogil=True)
-def _edt_2d(mask: np.ndarray) -> np.ndarray:
-    h, w = mask.shape
-    inf = float(h * h + w * w) + 1.0
-    out = np.empty((h, w), dtype=np.float64)
-    n = max(h, w)
-    f = np.empty(n, dtype=np.float64)
-    d = np.empty(n, dtype=np.float64)
-    v = np.empty(n, dtype=np.int64)
-    z = np.empty(n + 1, dtype=np.float64)
-    for x in range(w):
-        for y in range(h):
-            f[y] = 0.0 if mask[y, x] else inf
-        _edt_1d(f, h, d, v, z)
-        for y in range(h):
-            out[y, x] = d[y]
-    for y in range(h):
-        for x in range(w):
-            f[x] = out[y, x]
-        _edt_1d(f, w, d, v, z)
-        for x in range(w):
-            out[y, x] = d[x]
-    return out
-
-
-def squared_distance_transform(mask: np.ndarray) -> np.ndarray:
-    """Exact squared Euclidean distance, in cells, from each cell to the nearest True cell.
-
-    Felzenszwalb-Huttenlocher, unbounded; a grid without any True cell gives h*h + w*w + 1
-    everywhere. Useful for likelihood fields and tests.
-    """
-    mask = np.ascontiguousarray(mask, dtype=np.bool_)
-    if mask.ndim != 2:
-        raise ValueError(f"squared_distance_transform: mask must be 2-D, got shape {mask.shape}")
-    return _edt_2d(mask)
-
-
 INFLATION_PARAMS = (
     Param("enabled", True, bool, "whether the layer contributes"),
     Param("inflation_radius", 0.55, float, "radius (m) to which costs are spread", min=0.0,
