@@ -266,12 +266,15 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
             global_cm.update_map(pose)
 
     state: dict[str, Any] = {}
-    ex = Executive(tree, io, clock, config.control_period(), components,
-                   safety=SafetyGate(config.safety), recorder=recorder, perceivers=[perceive],
-                   estimator=estimator,
-                   namespace=namespace, meta=dict(meta or {}, tree=os.path.abspath(tree_path),
-                                                  start=None if start is None
-                                                  else [start.x, start.y, start.theta]))
+    try:
+        ex = Executive(tree, io, clock, config.control_period(), components,
+                       safety=SafetyGate(config.safety), recorder=recorder,
+                       perceivers=[perceive], estimator=estimator, namespace=namespace,
+                       meta=dict(meta or {}, tree=os.path.abspath(tree_path),
+                                 start=None if start is None else [start.x, start.y,
+                                                                   start.theta]))
+    except Exception as e:  # noqa: BLE001 - a node's setup (e.g. a missing component)
+        raise WiringError(f"{tree_path}: tree setup failed: {e}") from None
     return Mission(ex, grid, config, sim, components, world, tree_path)
 
 

@@ -318,3 +318,31 @@ def test_overrun_is_recorded():
     lines = [json.loads(s) for s in stream.getvalue().splitlines()[1:]]
     assert [ln["overrun_ms"] for ln in lines] == [150.0, 150.0, 150.0]
     assert ex.trace.overruns == 3
+
+
+def test_setup_failure_is_a_wiring_error(tmp_path):
+    """A tree whose node cannot set up (here: a component it needs is missing) is one clear
+    error naming the tree, not a traceback."""
+    pytest.importorskip("executive.tree_loader")
+    from executive.config import load_config
+    from executive.mission import WiringError, build_mission
+    from navcore.synthetic_maps import ascii_map
+
+    class Broken(py_trees.behaviour.Behaviour):
+        def setup(self, **kwargs):
+            raise RuntimeError("needs a 'gripper' component")
+
+        def update(self):
+            return Status.SUCCESS
+
+    import executive.mission as mission
+    tree_file = tmp_path / "t.yaml"
+    tree_file.write_text("main_tree: T\ntrees:\n  T:\n    Wait: {wait_duration: 1.0}\n")
+    original = mission.load_tree_file
+    mission.load_tree_file = lambda path, namespace: py_trees.trees.BehaviourTree(Broken("b"))
+    try:
+        grid = ascii_map("########\n#......#\n#......#\n########\n", resolution=0.5)
+        with pytest.raises(WiringError, match=r"t.yaml: tree setup failed: needs a 'gripper'"):
+            build_mission(str(tree_file), load_config(), grid, Pose2D(1.0, 1.0))
+    finally:
+        mission.load_tree_file = original
