@@ -7,7 +7,6 @@ runs, and is reported as xfail with the reason when it misses its expectation.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
