@@ -25,7 +25,7 @@ class Progress:
         pad = max(0, self._width - len(text))
         self.stream.write("\r" + text + " " * pad)
         self.stream.flush()
-        self._width = len(text)
+        self._width = len(text) + pad  # what is on the line now, padding included
 
     def done(self) -> None:
         if self.enabled and self._width:

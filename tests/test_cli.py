@@ -274,3 +274,24 @@ def test_scenario_run_table_and_json(tmp_path, capsys):
     bad_tree.write_text("main_tree: T\ntrees: {}\n")
     code, _, err = run_cli(capsys, "scenario", "run", str(s), "--tree", str(bad_tree))
     assert code == 1 and err.startswith("mission scenario: ") and "t.yaml" in err
+
+
+def test_progress_line_only_on_a_terminal():
+    import io as _io
+
+    from executive.progress import Progress, bar
+
+    class Tty(_io.StringIO):
+        def isatty(self):
+            return True
+
+    quiet, loud = _io.StringIO(), Tty()
+    for stream in (quiet, loud):
+        p = Progress(stream, every=1)
+        p.update("t=1.0s")
+        p.update("t=2.0s long")
+        p.update("t=3s")
+        p.done()
+    assert quiet.getvalue() == ""
+    assert loud.getvalue() == "\rt=1.0s\rt=2.0s long\rt=3s       \r           \r"
+    assert bar(0.5, 10) == "[#####.....]" and bar(2.0, 4) == "[####]"
