@@ -186,7 +186,7 @@ class GlobalPlanner:
             ok, xy = grid_path(ws.pot, nx, ny, g[0], g[1], sx, sy, 4 * nx * ny)
         else:
             ok, xy = gradient_path(ws.pot, nx, ny, g[0], g[1], STOP_NEAR_POINT, sx, sy,
-                                   4 * nx * ny, float(lethal), ws.gradx, ws.grady)
+                                   4 * nx * ny, float(lethal))
         if not ok or len(xy) == 0:
             return PlanResult.failure("no_path", potential)
         off = 0.0 if p.old_navfn_behavior else 0.5

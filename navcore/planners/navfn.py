@@ -103,7 +103,7 @@ class NavFn:
         bc = cm.world_to_map(*best)
         ok, xy = gradient_path(ws.pot, nx, ny, float(bc[0]), float(bc[1]), STOP_NEAR_NEUTRAL,
                                float(sc[0]), float(sc[1]), max(4 * nx, nx * ny // 2),
-                               float(COST_OBS), ws.gradx, ws.grady)
+                               float(COST_OBS))
         if not ok or len(xy) == 0:
             return PlanResult.failure("no_path", potential)
         poses = np.zeros((len(xy) + 1, 3))

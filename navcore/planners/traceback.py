@@ -35,52 +35,56 @@ def _int_trunc(v: float) -> float:
     return float(int(v))
 
 
-@njit(cache=True)
-def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, gradx: np.ndarray,
-               grady: np.ndarray, touched: np.ndarray, ntouched: int) -> int:
-    """Unit descent direction at cell n into the caches; returns the new touched count."""
-    if gradx[n] + grady[n] > 0.0:  # the C++ cache test (a cached gradient with sum <= 0 recomputes)
-        return ntouched
+@njit(cache=True, inline="always")
+def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tuple:
+    """Unit descent direction at cell n, rounded to float32 as navfn stores it; (0, 0) on the
+    first and last rows and where the gradient vanishes.
+
+    navfn caches these per cell, but its cache test (``gradx + grady > 0``) misses for every
+    gradient pointing down or left, and the potential does not change while a path is extracted,
+    so computing each one afresh gives the same values without two map-sized caches to reset.
+    """
     if n < nx or n > ns - nx:
-        return ntouched
+        return 0.0, 0.0
     cv = pot[n]
+    pl = pot[n - 1]
+    pr = pot[n + 1]
+    pu = pot[n - nx]
+    pd = pot[n + nx]
     dx = 0.0
     dy = 0.0
     if cv >= POT_HIGH:  # inside an obstacle: head for a reached neighbour
-        if pot[n - 1] < POT_HIGH:
+        if pl < POT_HIGH:
             dx = -obs_grad
-        elif pot[n + 1] < POT_HIGH:
+        elif pr < POT_HIGH:
             dx = obs_grad
-        if pot[n - nx] < POT_HIGH:
+        if pu < POT_HIGH:
             dy = -obs_grad
-        elif pot[n + nx] < POT_HIGH:
+        elif pd < POT_HIGH:
             dy = obs_grad
     else:
-        if pot[n - 1] < POT_HIGH:
-            dx += pot[n - 1] - cv
-        if pot[n + 1] < POT_HIGH:
-            dx += cv - pot[n + 1]
-        if pot[n - nx] < POT_HIGH:
-            dy += pot[n - nx] - cv
-        if pot[n + nx] < POT_HIGH:
-            dy += cv - pot[n + nx]
+        if pl < POT_HIGH:
+            dx += pl - cv
+        if pr < POT_HIGH:
+            dx += cv - pr
+        if pu < POT_HIGH:
+            dy += pu - cv
+        if pd < POT_HIGH:
+            dy += cv - pd
     norm = math.hypot(dx, dy)
     if norm > 0.0:
-        gradx[n] = np.float32(dx / norm)
-        grady[n] = np.float32(dy / norm)
-        touched[ntouched] = n
-        ntouched += 1
-    return ntouched
+        return float(np.float32(dx / norm)), float(np.float32(dy / norm))
+    return 0.0, 0.0
 
 
 @njit(cache=True)
 def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float,
-                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float,
-                  gradx: np.ndarray, grady: np.ndarray) -> tuple:
+                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float
+                  ) -> tuple:
     """Descend from (from_x, from_y) (cells, fractional allowed) to the seed at (to_x, to_y).
 
     Returns ``(ok, xy)`` with ``xy`` an (N, 2) float64 array of cell coordinates from the start of
-    the descent to the seed. ``gradx``/``grady`` are all-zero caches and are left all-zero.
+    the descent to the seed.
     """
     ns = nx * ny
     stc = int(from_y) * nx + int(from_x)
@@ -90,8 +94,6 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
     xs = np.empty(cap, np.float64)
     ys = np.empty(cap, np.float64)
     npath = 0
-    touched = np.empty(64, np.int64)
-    ntouched = 0
     ok = False
     for _ in range(max_steps):
         if npath + 1 >= cap:
@@ -102,10 +104,6 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             ys2[:npath] = ys[:npath]
             xs = xs2
             ys = ys2
-        if touched.shape[0] - ntouched < 8:
-            t2 = np.empty(touched.shape[0] * 2, np.int64)
-            t2[:ntouched] = touched[:ntouched]
-            touched = t2
         px = stc % nx + dx
         py = stc // nx + dy
         if stop_mode == STOP_NEAR_NEUTRAL:
@@ -149,15 +147,15 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             if pot[stc] >= POT_HIGH:
                 break
         else:
-            ntouched = _grad_cell(pot, stc, nx, ns, obs_grad, gradx, grady, touched, ntouched)
-            ntouched = _grad_cell(pot, stc + 1, nx, ns, obs_grad, gradx, grady, touched, ntouched)
-            ntouched = _grad_cell(pot, up, nx, ns, obs_grad, gradx, grady, touched, ntouched)
-            ntouched = _grad_cell(pot, up + 1, nx, ns, obs_grad, gradx, grady, touched, ntouched)
-            x1 = (1.0 - dx) * gradx[stc] + dx * gradx[stc + 1]
-            x2 = (1.0 - dx) * gradx[up] + dx * gradx[up + 1]
+            gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad)
+            gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad)
+            gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad)
+            gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad)
+            x1 = (1.0 - dx) * gx00 + dx * gx10
+            x2 = (1.0 - dx) * gx01 + dx * gx11
             gx = (1.0 - dy) * x1 + dy * x2
-            y1 = (1.0 - dx) * grady[stc] + dx * grady[stc + 1]
-            y2 = (1.0 - dx) * grady[up] + dx * grady[up + 1]
+            y1 = (1.0 - dx) * gy00 + dx * gy10
+            y2 = (1.0 - dx) * gy01 + dx * gy11
             gy = (1.0 - dy) * y1 + dy * y2
             if gx == 0.0 and gy == 0.0:
                 break
@@ -178,9 +176,6 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
                 dy += 1.0
             if stc < 0 or stc >= ns:
                 break
-    for i in range(ntouched):
-        gradx[touched[i]] = 0.0
-        grady[touched[i]] = 0.0
     out = np.empty((npath, 2), np.float64)
     out[:, 0] = xs[:npath]
     out[:, 1] = ys[:npath]

@@ -256,6 +256,3 @@ class Workspace:
         self.buf_a = np.empty(ns, np.int32)
         self.buf_b = np.empty(ns, np.int32)
         self.buf_c = np.empty(ns, np.int32)
-        # gradient caches, kept all-zero between plans by the path kernel
-        self.gradx = np.zeros(ns, np.float32)
-        self.grady = np.zeros(ns, np.float32)
