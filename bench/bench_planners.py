@@ -8,7 +8,8 @@ between the two free cells farthest apart along the diagonal. Each figure is the
 full ``make_plan`` calls after a warm-up (numba compiled and cached), in process CPU time.
 ``--json`` prints one JSON object as the last line. ``global_planner_astar_grid`` is
 ``use_dijkstra: false`` with ``use_grid_path: true``; its C++ figure is ROS's greedy
-single-assignment A*, which is not least-cost (ours is a real A*, see navcore/planners/astar.py).
+single-assignment A*, which is not least-cost (ours is navfn's A* wavefront, see
+navcore/planners/global_planner.py).
 
     python bench/bench_planners.py [--json] [--sizes 1000 2000 4000] [--repeat 5]
 """

@@ -28,6 +28,8 @@ global_planner's ``outline_map`` without writing into the shared costmap.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -38,6 +40,20 @@ _QA = np.float32(-0.2301)
 _QB = np.float32(0.5307)
 _QC = np.float32(0.7040)
 _INVSQRT2 = np.float32(INVSQRT2)
+
+
+HEURISTIC_NONE = 0
+HEURISTIC_MANHATTAN = 1
+HEURISTIC_EUCLIDEAN = 2
+
+
+@njit(cache=True, inline="always")
+def _heuristic(x: int, y: int, tx: int, ty: int, hkind: int, hscale: float) -> float:
+    dx = abs(x - tx)
+    dy = abs(y - ty)
+    if hkind == HEURISTIC_MANHATTAN:
+        return hscale * (dx + dy)
+    return hscale * math.sqrt(dx * dx + dy * dy)
 
 
 @njit(cache=True)
@@ -62,7 +78,7 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
               nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray,
               buf_b: np.ndarray, buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
-              max_cycles: int, quadratic: bool) -> tuple:
+              max_cycles: int, quadratic: bool, hkind: int = 0, hscale: float = 0.0) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
     ``costs`` is the flat uint8 costmap; ``lut[c]`` the cell cost, +inf where impassable (so the
@@ -72,6 +88,11 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
     ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 4 on the
     border. Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
     ``(reached, cell_updates, cycles)``.
+
+    With ``hkind`` HEURISTIC_MANHATTAN or HEURISTIC_EUCLIDEAN this is A* in navfn's
+    ``calcNavFnAstar`` manner: a cell's band is decided by potential + ``hscale`` x its distance
+    to ``target`` instead of the potential alone (the stored potential has no heuristic). With a
+    consistent heuristic every cell whose key is below a finished band is final, as above.
     """
     ns = nx * ny
     for i in range(seed_cells.shape[0]):
@@ -88,6 +109,11 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
             cur[ncur] = m
             ncur += 1
             pending[m] = 1
+    tx = target % nx
+    ty = target // nx
+    if hkind != HEURISTIC_NONE and seed_cells.shape[0] > 0:
+        # the first band starts at the seed's key, not at its potential
+        threshold += _heuristic(seed_cells[0] % nx, seed_cells[0] // nx, tx, ty, hkind, hscale)
     t = np.float32(threshold)
     inc = np.float32(increment)
     unx = np.uintp(nx)
@@ -136,7 +162,11 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
             if not p < pot[n]:
                 continue
             pot[n] = p
-            tn = np.intp(p < t)
+            if hkind == HEURISTIC_NONE:
+                tn = np.intp(p < t)
+            else:
+                y = np.intp(n // unx)
+                tn = np.intp(p + _heuristic(np.intp(n) - y * nx, y, tx, ty, hkind, hscale) < t)
             # the push rule above, per neighbour (left, right, -nx, +nx), written out: passing
             # the arrays to a helper costs reference counting in this loop. Below the threshold
             # (nearly always, so well predicted) only next is touched, else only overflow.
