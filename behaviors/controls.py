@@ -7,7 +7,7 @@ or is halted, every child is halted, so a later run starts all of them afresh.
 
 from __future__ import annotations
 
-from typing import Any, Iterator
+from typing import Any, ClassVar, Iterator
 
 import py_trees
 
@@ -16,7 +16,69 @@ from behaviors.base import Control, PortInformation, Status
 Behaviour = py_trees.behaviour.Behaviour
 
 
-class Sequence(Control):
+class _InOrder(Control):
+    """Children in order, resuming at the RUNNING child (shared by Sequence, Fallback and kin).
+
+    A child that ends with ``STOP_ON`` ends the node with that status; any other final status
+    moves on to the next child; ``ALL_DONE`` once every child has moved on. With ``MEMORY`` the
+    position survives a ``STOP_ON`` ending, so the next run resumes at that child.
+    (No ports declared: abstract, so it is not registered as a node.)
+    """
+
+    STOP_ON: ClassVar[Status]
+    ALL_DONE: ClassVar[Status]
+    MEMORY: ClassVar[bool] = False
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+
+    def tick(self) -> Iterator[Behaviour]:
+        if not self.MEMORY and self.status != Status.RUNNING:
+            self._index = 0
+        while self._index < len(self.children):
+            child = self.children[self._index]
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == self.STOP_ON:
+                if not self.MEMORY:
+                    self._index = 0
+                yield from self._finish(self.STOP_ON)
+                return
+            self._index += 1
+        self._index = 0
+        yield from self._finish(self.ALL_DONE)
+
+
+class _Reactive(Control):
+    """Every child from the first on each tick (shared by ReactiveSequence and ReactiveFallback).
+
+    A child RUNNING halts the later children and gives RUNNING; a child ending with ``STOP_ON``
+    ends the node with that status; ``ALL_DONE`` when no child did either in this tick.
+    (No ports declared: abstract, so it is not registered as a node.)
+    """
+
+    STOP_ON: ClassVar[Status]
+    ALL_DONE: ClassVar[Status]
+
+    def tick(self) -> Iterator[Behaviour]:
+        for i, child in enumerate(self.children):
+            self.current_child = child
+            yield from child.tick()
+            if child.status == Status.RUNNING:
+                self.halt_children(i + 1)
+                yield from self._finish(Status.RUNNING)
+                return
+            if child.status == self.STOP_ON:
+                yield from self._finish(self.STOP_ON)
+                return
+        yield from self._finish(self.ALL_DONE)
+
+
+class Sequence(_InOrder):
     """Tick children in order; resume at the RUNNING child on the next tick.
 
     A child's FAILURE fails the sequence (and the next run starts from the first child).
@@ -25,31 +87,10 @@ class Sequence(Control):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
-        super().__init__(*args, **kwargs)
-        self._index = 0
-
-    def tick(self) -> Iterator[Behaviour]:
-        if self.status != Status.RUNNING:
-            self._index = 0
-        while self._index < len(self.children):
-            child = self.children[self._index]
-            self.current_child = child
-            yield from child.tick()
-            if child.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
-                return
-            if child.status == Status.FAILURE:
-                self._index = 0
-                yield from self._finish(Status.FAILURE)
-                return
-            self._index += 1
-        self._index = 0
-        yield from self._finish(Status.SUCCESS)
+    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
 
 
-class SequenceWithMemory(Control):
+class SequenceWithMemory(_InOrder):
     """Like Sequence, but a failed child is ticked again (not the first child) on the next run.
 
     The memory is kept until the whole sequence succeeds. (BT.CPP ``SequenceWithMemory``.)
@@ -57,28 +98,11 @@ class SequenceWithMemory(Control):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
-        super().__init__(*args, **kwargs)
-        self._index = 0
-
-    def tick(self) -> Iterator[Behaviour]:
-        while self._index < len(self.children):
-            child = self.children[self._index]
-            self.current_child = child
-            yield from child.tick()
-            if child.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
-                return
-            if child.status == Status.FAILURE:
-                yield from self._finish(Status.FAILURE)
-                return
-            self._index += 1
-        self._index = 0
-        yield from self._finish(Status.SUCCESS)
+    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
+    MEMORY = True
 
 
-class ReactiveSequence(Control):
+class ReactiveSequence(_Reactive):
     """Tick every child from the first on each tick (conditions are re-checked every tick).
 
     A child RUNNING: later children are halted, RUNNING. A child FAILURE: the running branch is
@@ -87,22 +111,10 @@ class ReactiveSequence(Control):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def tick(self) -> Iterator[Behaviour]:
-        for i, child in enumerate(self.children):
-            self.current_child = child
-            yield from child.tick()
-            if child.status == Status.RUNNING:
-                self.halt_children(i + 1)
-                yield from self._finish(Status.RUNNING)
-                return
-            if child.status == Status.FAILURE:
-                yield from self._finish(Status.FAILURE)
-                return
-        yield from self._finish(Status.SUCCESS)
+    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
 
 
-class Fallback(Control):
+class Fallback(_InOrder):
     """Tick children in order until one does not fail; resume at the RUNNING child.
 
     SUCCESS at the first child that succeeds; FAILURE when all have failed. (BT.CPP ``Fallback``.)
@@ -110,31 +122,10 @@ class Fallback(Control):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
-        super().__init__(*args, **kwargs)
-        self._index = 0
-
-    def tick(self) -> Iterator[Behaviour]:
-        if self.status != Status.RUNNING:
-            self._index = 0
-        while self._index < len(self.children):
-            child = self.children[self._index]
-            self.current_child = child
-            yield from child.tick()
-            if child.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
-                return
-            if child.status == Status.SUCCESS:
-                self._index = 0
-                yield from self._finish(Status.SUCCESS)
-                return
-            self._index += 1
-        self._index = 0
-        yield from self._finish(Status.FAILURE)
+    STOP_ON, ALL_DONE = Status.SUCCESS, Status.FAILURE
 
 
-class ReactiveFallback(Control):
+class ReactiveFallback(_Reactive):
     """Tick every child from the first on each tick; higher priorities preempt a running one.
 
     A child RUNNING: later children are halted, RUNNING. SUCCESS at the first success;
@@ -143,19 +134,7 @@ class ReactiveFallback(Control):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def tick(self) -> Iterator[Behaviour]:
-        for i, child in enumerate(self.children):
-            self.current_child = child
-            yield from child.tick()
-            if child.status == Status.RUNNING:
-                self.halt_children(i + 1)
-                yield from self._finish(Status.RUNNING)
-                return
-            if child.status == Status.SUCCESS:
-                yield from self._finish(Status.SUCCESS)
-                return
-        yield from self._finish(Status.FAILURE)
+    STOP_ON, ALL_DONE = Status.SUCCESS, Status.FAILURE
 
 
 class Parallel(Control):
