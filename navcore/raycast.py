@@ -34,21 +34,17 @@ def _axis_entry(g: float, d: float) -> int:
 
 
 @njit(cache=True)
-def cast_ray(occ: np.ndarray, origin_x: float, origin_y: float, resolution: float,
-             x: float, y: float, angle: float, max_range: float) -> float:
-    """Distance (m) from (x, y) along ``angle`` to the first blocked cell, else ``max_range``."""
-    h, w = occ.shape
-    dx = math.cos(angle)
-    dy = math.sin(angle)
-    gx = (x - origin_x) / resolution
-    gy = (y - origin_y) / resolution
-    t_end = max_range / resolution  # ray parameter in cells (|(dx, dy)| = 1)
-    # clip the ray to the grid rectangle [0, w] x [0, h] (slab method)
+def _clip_to_grid(gx: float, gy: float, dx: float, dy: float, w: int, h: int,
+                  t_end: float) -> tuple[float, float]:
+    """Clip the ray (gx, gy) + t (dx, dy), 0 <= t <= ``t_end`` (grid units), to the grid
+    rectangle [0, w] x [0, h] (slab method): the entry and exit parameters (t0, t1). The ray
+    misses the grid when t0 > t1 or t0 >= t_end (a ray parallel to an axis and outside the grid
+    along it gives t0 = inf)."""
     t0 = 0.0
     t1 = t_end
     if dx == 0.0:
         if gx < 0.0 or gx >= w:
-            return max_range
+            return _INF, _INF
     else:
         ta = (0.0 - gx) / dx
         tb = (w - gx) / dx
@@ -58,7 +54,7 @@ def cast_ray(occ: np.ndarray, origin_x: float, origin_y: float, resolution: floa
         t1 = min(t1, tb)
     if dy == 0.0:
         if gy < 0.0 or gy >= h:
-            return max_range
+            return _INF, _INF
     else:
         ta = (0.0 - gy) / dy
         tb = (h - gy) / dy
@@ -66,6 +62,20 @@ def cast_ray(occ: np.ndarray, origin_x: float, origin_y: float, resolution: floa
             ta, tb = tb, ta
         t0 = max(t0, ta)
         t1 = min(t1, tb)
+    return t0, t1
+
+
+@njit(cache=True)
+def cast_ray(occ: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+             x: float, y: float, angle: float, max_range: float) -> float:
+    """Distance (m) from (x, y) along ``angle`` to the first blocked cell, else ``max_range``."""
+    h, w = occ.shape
+    dx = math.cos(angle)
+    dy = math.sin(angle)
+    gx = (x - origin_x) / resolution
+    gy = (y - origin_y) / resolution
+    t_end = max_range / resolution  # ray parameter in cells (|(dx, dy)| = 1)
+    t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
     if t0 > t1 or t0 >= t_end:
         return max_range
     px = gx + t0 * dx
@@ -177,27 +187,7 @@ def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float
         elif dy < 0.0:
             t1 = min(t1, -gy / dy)
     else:
-        # clip the ray to the grid rectangle [0, w] x [0, h] (slab method)
-        if dx == 0.0:
-            if gx < 0.0 or gx >= w:
-                return t_end
-        else:
-            ta = (0.0 - gx) / dx
-            tb = (w - gx) / dx
-            if ta > tb:
-                ta, tb = tb, ta
-            t0 = max(t0, ta)
-            t1 = min(t1, tb)
-        if dy == 0.0:
-            if gy < 0.0 or gy >= h:
-                return t_end
-        else:
-            ta = (0.0 - gy) / dy
-            tb = (h - gy) / dy
-            if ta > tb:
-                ta, tb = tb, ta
-            t0 = max(t0, ta)
-            t1 = min(t1, tb)
+        t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
         if t0 > t1 or t0 >= t_end:
             return t_end
     step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
