@@ -165,6 +165,32 @@ def raytrace_line(costs: np.ndarray, x0: int, y0: int, x1: int, y1: int, max_len
 
 
 @njit(cache=True, nogil=True)
+def grow_bounds(bounds: np.ndarray, x: float, y: float) -> None:
+    """Grow ``bounds`` [min_x, min_y, max_x, max_y] to include the world point (x, y) (the njit
+    twin of ``layer.touch``, for the marking and clearing kernels)."""
+    if x < bounds[0]:
+        bounds[0] = x
+    if y < bounds[1]:
+        bounds[1] = y
+    if x > bounds[2]:
+        bounds[2] = x
+    if y > bounds[3]:
+        bounds[3] = y
+
+
+@njit(cache=True, nogil=True)
+def grow_bounds_to_ray_end(bounds: np.ndarray, ox: float, oy: float, wx: float, wy: float,
+                           raytrace_range: float) -> None:
+    """Grow ``bounds`` to the end of the clearing ray (ox, oy) -> (wx, wy) limited to
+    ``raytrace_range`` (2-D), as raytraceFreespace's updateRaytraceBounds."""
+    dx = wx - ox
+    dy = wy - oy
+    full = math.sqrt(dx * dx + dy * dy)
+    scale = 1.0 if full == 0.0 else min(1.0, raytrace_range / full)
+    grow_bounds(bounds, ox + dx * scale, oy + dy * scale)
+
+
+@njit(cache=True, nogil=True)
 def _raytrace_freespace(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
                         ox: float, oy: float, points: np.ndarray, raytrace_range: float,
                         bounds: np.ndarray) -> bool:
@@ -180,10 +206,7 @@ def _raytrace_freespace(costs: np.ndarray, origin_x: float, origin_y: float, res
     end_x = origin_x + size_x * resolution
     end_y = origin_y + size_y * resolution
     cell_range = max(0, int(math.ceil(raytrace_range / resolution)))
-    bounds[0] = min(bounds[0], ox)
-    bounds[1] = min(bounds[1], oy)
-    bounds[2] = max(bounds[2], ox)
-    bounds[3] = max(bounds[3], oy)
+    grow_bounds(bounds, ox, oy)
     for i in range(points.shape[0]):
         wx = points[i, 0]
         wy = points[i, 1]
@@ -213,21 +236,7 @@ def _raytrace_freespace(costs: np.ndarray, origin_x: float, origin_y: float, res
         if x1 >= size_x or y1 >= size_y:
             continue
         raytrace_line(costs, x0, y0, x1, y1, cell_range, np.uint8(FREE_SPACE))
-        # bounds grow to the range-limited end point
-        dx = wx - ox
-        dy = wy - oy
-        full = math.sqrt(dx * dx + dy * dy)
-        scale = 1.0 if full == 0.0 else min(1.0, raytrace_range / full)
-        ex = ox + dx * scale
-        ey = oy + dy * scale
-        if ex < bounds[0]:
-            bounds[0] = ex
-        if ey < bounds[1]:
-            bounds[1] = ey
-        if ex > bounds[2]:
-            bounds[2] = ex
-        if ey > bounds[3]:
-            bounds[3] = ey
+        grow_bounds_to_ray_end(bounds, ox, oy, wx, wy, raytrace_range)
     return True
 
 
@@ -255,14 +264,7 @@ def _mark(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float
         if mx >= size_x or my >= size_y:
             continue
         costs[my, mx] = LETHAL_OBSTACLE
-        if px < bounds[0]:
-            bounds[0] = px
-        if py < bounds[1]:
-            bounds[1] = py
-        if px > bounds[2]:
-            bounds[2] = px
-        if py > bounds[3]:
-            bounds[3] = py
+        grow_bounds(bounds, px, py)
 
 
 def split_sources(name: str, params: Mapping[str, Any], specs: tuple[Param, ...]

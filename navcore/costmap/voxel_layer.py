@@ -18,7 +18,8 @@ from numba import njit
 from navcore.clock import Clock
 from navcore.costmap.cost_values import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION
 from navcore.costmap.costmap2d import shift_grid
-from navcore.costmap.obstacle_layer import OBSTACLE_PARAMS, ObstacleLayer
+from navcore.costmap.obstacle_layer import (OBSTACLE_PARAMS, ObstacleLayer, grow_bounds,
+                                            grow_bounds_to_ray_end)
 from navcore.params import Param
 
 VOXEL_BITS = 16
@@ -77,10 +78,7 @@ def _voxel_raytrace(voxels: np.ndarray, costs: np.ndarray, origin_x: float, orig
     end_y = origin_y + size_y * resolution
     end_z = origin_z + size_z * z_resolution
     cell_range = max(0, int(math.ceil(raytrace_range / resolution)))
-    bounds[0] = min(bounds[0], ox)
-    bounds[1] = min(bounds[1], oy)
-    bounds[2] = max(bounds[2], ox)
-    bounds[3] = max(bounds[3], oy)
+    grow_bounds(bounds, ox, oy)
     for i in range(points.shape[0]):
         wx, wy, wz = points[i, 0], points[i, 1], points[i, 2]
         dist = math.sqrt((wx - ox) ** 2 + (wy - oy) ** 2 + (wz - oz) ** 2)
@@ -165,15 +163,7 @@ def _voxel_raytrace(voxels: np.ndarray, costs: np.ndarray, origin_x: float, orig
                     y += sty
                     ec -= adz
         _clear_voxel(voxels, costs, x, y, z, mark_threshold, unknown_threshold)
-        # bounds grow to the range-limited end point (2-D)
-        ddx, ddy = wx - ox, wy - oy
-        full = math.sqrt(ddx * ddx + ddy * ddy)
-        s2 = 1.0 if full == 0.0 else min(1.0, raytrace_range / full)
-        ex, ey = ox + ddx * s2, oy + ddy * s2
-        bounds[0] = min(bounds[0], ex)
-        bounds[1] = min(bounds[1], ey)
-        bounds[2] = max(bounds[2], ex)
-        bounds[3] = max(bounds[3], ey)
+        grow_bounds_to_ray_end(bounds, ox, oy, wx, wy, raytrace_range)
 
 
 @njit(cache=True, nogil=True)
@@ -200,10 +190,7 @@ def _voxel_mark(voxels: np.ndarray, costs: np.ndarray, origin_x: float, origin_y
         voxels[my, mx] = col
         if _popcount(col >> np.uint32(16)) > mark_threshold:
             costs[my, mx] = LETHAL_OBSTACLE
-            bounds[0] = min(bounds[0], px)
-            bounds[1] = min(bounds[1], py)
-            bounds[2] = max(bounds[2], px)
-            bounds[3] = max(bounds[3], py)
+            grow_bounds(bounds, px, py)
 
 
 class VoxelLayer(ObstacleLayer):
