@@ -16,11 +16,14 @@ import numpy as np
 
 from behaviors.actions import heading_to
 from behaviors.base import Leaf, PortInformation, Status
+from behaviors.clearance import clearances
 from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
 from navcore.types import Pose2D, Twist, angle_diff
 
 COSTMAP_CHOICES = ("local", "global", "both")
+# metres a tight-spot motion may close in on a lethal cell beyond the start (numerical slack)
+CLEARANCE_TOLERANCE = 0.002
 
 
 def is_collision(cost: int, start_cost: int = 0) -> bool:
@@ -63,7 +66,12 @@ class Recovery(Leaf):
     def first_collision(self, poses: Iterable[Pose2D], start: Pose2D | None = None
                         ) -> tuple[Pose2D, int] | None:
         """First pose whose footprint is in collision (see ``is_collision``; ``start`` is where
-        the robot is now), with its cost; None if all are clear."""
+        the robot is now), with its cost; None if all are clear.
+
+        From a tight spot (the footprint already in inscribed or lethal cost) the grid's
+        conservative rasterisation cannot tell a near miss from contact, so a lethal cost is
+        then judged geometrically: the footprint polygon may not overlap a lethal cell (as the
+        square it is) more than it already does at ``start``."""
         handle = self.collision_map()
         if handle is None:
             return None
@@ -71,10 +79,19 @@ class Recovery(Leaf):
                                                                         start.theta))
         if start_cost == NO_INFORMATION:
             start_cost = 0
-        for p in poses:
+        poses = list(poses)
+        tight = start is not None and start_cost >= INSCRIBED_INFLATED_OBSTACLE
+        gaps: Any = None
+        for i, p in enumerate(poses):
             cost = int(handle.footprint_cost(p.x, p.y, p.theta))
-            if is_collision(cost, start_cost):
-                return p, cost
+            if not is_collision(cost, start_cost):
+                continue
+            if tight and cost == LETHAL_OBSTACLE:
+                if gaps is None:
+                    gaps = clearances(handle, [start] + poses)
+                if gaps is not None and gaps[i + 1] >= min(0.0, gaps[0]) - CLEARANCE_TOLERANCE:
+                    continue
+            return p, cost
         return None
 
     def pursue(self, pose: Pose2D, trail: list[Pose2D], index: int, target: Pose2D,
@@ -400,6 +417,40 @@ def ring_candidates(center: Pose2D, min_distance: float, max_distance: float, ra
     return out
 
 
+# spacing of the footprint checks along a candidate arc while searching, m
+ARC_SEARCH_STEP = 0.03
+# clear arcs compared for clearance, and the clearance (m) beyond which any arc will do
+ARC_CHOICES = 8
+# arc searches per run: a blocked arc is replaced by a new one from where the robot stands
+ARC_SEARCHES = 3
+ARC_GAP_ENOUGH = 0.1
+
+
+def arc_poses(pose: Pose2D, x: float, y: float, step: float,
+              max_turn: float = 0.5 * math.pi) -> list[Pose2D] | None:
+    """Poses every ``step`` metres along the circular arc a differential drive follows from
+    ``pose`` to the point (x, y), forwards if the point is ahead, backwards if behind; the last
+    one is at the point with the heading the arc ends with. None when the arc would turn by
+    more than ``max_turn`` or the point is (nearly) abeam or at the robot."""
+    rel = Pose2D(x, y, 0.0).relative_to(pose)
+    d2 = rel.x * rel.x + rel.y * rel.y
+    turn = 2.0 * math.atan2(abs(rel.y), abs(rel.x))
+    if d2 < 1e-6 or turn > max_turn:
+        return None
+    k = 2.0 * rel.y / d2                                    # curvature: w = v * k either way
+    length = turn / abs(k) if abs(k) > 1e-9 else abs(rel.x)
+    direction = 1.0 if rel.x > 0.0 else -1.0
+    n = max(1, int(math.ceil(length / step)))
+    out = []
+    for j in range(1, n + 1):
+        s = direction * length * j / n                      # signed distance along the arc
+        a = k * s
+        lx = math.sin(a) / k if abs(k) > 1e-9 else s
+        ly = (1.0 - math.cos(a)) / k if abs(k) > 1e-9 else 0.0
+        out.append(pose.compose(Pose2D(lx, ly, a)))
+    return out
+
+
 class TemporaryGoal(Recovery):
     """Get out of a tight spot: find a free, reachable pose near the robot and drive there.
 
@@ -425,6 +476,9 @@ class TemporaryGoal(Recovery):
         "planner_id": PortInformation(str, False, "planner for the way there", "GridBased"),
         "controller_id": PortInformation(str, False, "controller for the way there", "FollowPath"),
         "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
+        "arc_first": PortInformation(bool, False,
+                                     "first try poses one collision-free arc away, driven "
+                                     "without the planner", True),
         "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
         "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
         "escape_speed": PortInformation(float, False,
@@ -454,6 +508,10 @@ class TemporaryGoal(Recovery):
         self._candidates: list[Pose2D] | None = None
         self._goal: Pose2D | None = None
         self._controller = None
+        self._own = False
+        self._arcs_tried = not self.get_input("arc_first") or self.get_input("escape_speed") <= 0
+        self._arc_mode = False
+        self._arc_searches = 0
 
     def _rank(self, pose: Pose2D) -> list[Pose2D]:
         handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
@@ -472,6 +530,41 @@ class TemporaryGoal(Recovery):
         scored.sort(key=lambda t: t[:2])
         return [t[2] for t in scored]
 
+    def _arc_goal(self, pose: Pose2D) -> Pose2D | None:
+        """The best pose one arc away (forwards or backwards, turning at most 90 degrees) whose
+        footprint is free at the arc's end and clear all along it; None if there is none.
+        Ranked by openness at the end, then by arc length."""
+        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
+        ends = []
+        for c in ring_candidates(pose, self.get_input("min_distance"),
+                                 self.get_input("search_radius"), self.get_input("radial_step"),
+                                 self.get_input("angular_samples")):
+            arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP)
+            if arc is None:
+                continue
+            end = arc[-1]
+            cost = int(handle.footprint_cost(end.x, end.y, end.theta)) if handle else 0
+            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
+                length = ARC_SEARCH_STEP * len(arc)
+                ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 2), length, end, arc))
+        ends.sort(key=lambda t: t[:2])
+        if self.get_input("disable_collision_checks"):
+            return ends[0][2] if ends else None
+        # Of the first few clear arcs, take the one that keeps farthest from lethal cells
+        # (the gentlest way out of a tight spot).
+        best, best_gap, clear = None, -math.inf, 0
+        for _, _, end, arc in ends:
+            if self.first_collision(arc, pose) is not None:
+                continue
+            gaps = clearances(handle, arc) if handle is not None else None
+            gap = min(float(np.min(gaps)), ARC_GAP_ENOUGH) if gaps is not None else 0.0
+            if gap > best_gap + 1e-3:
+                best, best_gap = end, gap
+            clear += 1
+            if clear >= ARC_CHOICES or best_gap >= ARC_GAP_ENOUGH:
+                break
+        return best
+
     def update(self) -> Status:
         pose = self.robot.pose()
         if self.clock.now() - self._start > self.get_input("time_allowance"):
@@ -482,7 +575,22 @@ class TemporaryGoal(Recovery):
             return self._search(pose)
         return self._drive(pose)
 
+    def _chosen(self, pose: Pose2D, goal: Pose2D, how: str) -> None:
+        self._goal = goal
+        self.start_progress_check(pose)
+        self.write("temporary_goal", goal)
+        self.say(f"temporary goal ({goal.x:.2f}, {goal.y:.2f}) {how}")
+
     def _search(self, pose: Pose2D) -> Status:
+        self.write("cmd_vel", Twist.zero())
+        if not self._arcs_tried:
+            self._arcs_tried = True
+            goal = self._arc_goal(pose)
+            self._arc_searches += 1
+            if goal is not None:
+                self._own = self._arc_mode = True  # one arc: our own checked motion, no planner
+                self._chosen(pose, goal, "one arc away")
+                return Status.RUNNING
         if self._candidates is None:
             self._candidates = self._rank(pose)
         planner = self.planners.get(self.get_input("planner_id"))
@@ -498,24 +606,22 @@ class TemporaryGoal(Recovery):
             cand = self._candidates.pop(0)
             result = planner.make_plan(pose, cand)
             if result.ok and result.path is not None and len(result.path) > 0:
-                self._goal, self._controller = cand, controller
-                self._trail = [result.path.pose(i) for i in range(len(result.path))]
-                self._i = 0
-                self._own = False
+                self._controller = controller
                 controller.reset()
                 controller.set_plan(result.path)
-                self.start_progress_check(pose)
-                self.write("temporary_goal", cand)
-                self.say(f"temporary goal ({cand.x:.2f}, {cand.y:.2f})")
+                self._chosen(pose, cand, "by plan")
                 break
-        self.write("cmd_vel", Twist.zero())
         return Status.RUNNING
 
     def _drive(self, pose: Pose2D) -> Status:
-        assert self._goal is not None and self._controller is not None
-        result = self._controller.compute_velocity(pose, self.robot.velocity())
-        if (result.status == "goal_reached" or self._controller.is_goal_reached()
-                or pose.distance_to(self._goal) <= self.get_input("xy_goal_tolerance")):
+        assert self._goal is not None
+        reached = pose.distance_to(self._goal) <= self.get_input("xy_goal_tolerance")
+        result = None
+        if self._controller is not None and not self._own:
+            result = self._controller.compute_velocity(pose, self.robot.velocity())
+            reached = (reached or result.status == "goal_reached"
+                       or self._controller.is_goal_reached())
+        if reached:
             self.stop_motion()
             self.report(BehaviorError.NONE, "reached the temporary goal")
             return Status.SUCCESS
@@ -523,22 +629,31 @@ class TemporaryGoal(Recovery):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
             return Status.FAILURE
-        cmd = result.cmd
-        if result.status.startswith("no_valid") or self._own:
-            # The controller refuses to move from here (its footprint already touches inflated
-            # cost, say): follow the plan with our own footprint-checked pursuit, which may
-            # leave inscribed cost. Once chosen, keep it until the temporary goal.
+        if result is not None and not result.status.startswith("no_valid"):
+            cmd = result.cmd
+        else:
+            # One arc chosen, or the controller refuses to move from here (its footprint
+            # already touches inflated cost, say): drive with our own footprint-checked
+            # pursuit, which may leave inscribed cost. Once chosen, keep it until the goal.
             speed = self.get_input("escape_speed")
             # Aim at the temporary goal itself: over these short distances the straight
             # pursuit arc is the gentlest way there (the plan may start with a sharp turn).
-            own, self._i, hit = (self.pursue(pose, [self._goal], 0, self._goal, speed,
-                                             self.get_input("lookahead"),
-                                             self.get_input("max_rotational_vel"))
-                                 if speed > 0.0 else (None, self._i, None))
+            own, _, hit = (self.pursue(pose, [self._goal], 0, self._goal, speed,
+                                       self.get_input("lookahead"),
+                                       self.get_input("max_rotational_vel"))
+                           if speed > 0.0 else (None, 0, None))
+            if own is None and self._arc_mode and self._arc_searches < ARC_SEARCHES:
+                # the costmap changed under the arc (a new obstacle, sensor noise along a
+                # wall): look for another arc from here
+                self._goal, self._arcs_tried, self._arc_mode = None, False, False
+                self.stop_motion()
+                self.say("arc blocked; searching again")
+                return Status.RUNNING
             if own is None:
                 self.stop_motion()
                 why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
-                self.report(BehaviorError.COLLISION_AHEAD, f"controller: {result.status}; {why}")
+                status = result.status if result is not None else "one arc"
+                self.report(BehaviorError.COLLISION_AHEAD, f"controller: {status}; {why}")
                 return Status.FAILURE
             self._own, cmd = True, own
         self.write("cmd_vel", cmd)

@@ -5,6 +5,8 @@ from __future__ import annotations
 import itertools
 import math
 
+import numpy as np
+
 import pytest
 from py_trees.blackboard import Client
 from py_trees.common import Access, Status
@@ -240,8 +242,16 @@ def test_temporary_goal_fails_without_free_pose():
     status, _ = rig.run(rig.node("TemporaryGoal"))
     assert status == F and rig.get("temporary_goal_error_code") == BehaviorError.NO_FREE_POSE
     unreachable = Rig(World(planner=ScriptedPlanner(fail_always=True)))
-    status, n = unreachable.run(unreachable.node("TemporaryGoal", max_plans_per_tick=4))
+    status, n = unreachable.run(unreachable.node("TemporaryGoal", max_plans_per_tick=4,
+                                                 arc_first=False))
     assert status == F and unreachable.world.planner.calls == 6 * 16  # every candidate (6 rings 0.4..1.4 m) tried
+    # the same world, arcs first: a free pose one clear arc away needs no planner at all
+    arcs = Rig(World(planner=ScriptedPlanner(fail_always=True)))
+    node = arcs.node("TemporaryGoal", max_plans_per_tick=4)
+    status, n = arcs.run(node)
+    goal = arcs.get("temporary_goal")
+    assert status == S and arcs.world.planner.calls == 0, node.feedback_message
+    assert arcs.world.robot.pose().distance_to(goal) <= 0.15
 
 
 def test_back_off_to_previous_pose_follows_the_trail_in_reverse():
@@ -353,3 +363,54 @@ def test_planner_and_controller_selectors():
     ps = rig.node("PlannerSelector")
     ps.tick_once()
     assert rig.get("selected_planner") == "GridBased"
+
+
+class _WallCostmap(FakeCostmap):
+    """A FakeCostmap with a real grid: lethal cells below y = ``face`` (a wall along x), the
+    robot's padded footprint polygon, and an inscribed band (the footprint within 0.25 m of the
+    wall), as the executive's layered costmaps give."""
+
+    def __init__(self, face, padding=0.03):
+        from navcore.costmap.footprint import footprint_cost, make_footprint
+        super().__init__(size_m=6.0, resolution=0.05, origin=-3.0)
+        costs = self.costmap.costs
+        ys = -3.0 + (np.arange(costs.shape[0]) + 0.5) * 0.05
+        costs[ys < face, :] = 254
+        self.params = type("P", (), {"footprint_padding": padding})()
+        self.footprint = make_footprint([[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22],
+                                         [-0.25, 0.22]], footprint_padding=padding)
+        self._face = face
+        self._cost = footprint_cost
+
+    def footprint_cost(self, x, y, theta):
+        cm = self.costmap
+        c = int(self._cost(cm.costs, cm.origin_x, cm.origin_y, cm.resolution, self.footprint,
+                           x, y, theta))
+        lowest = y - 0.25 * abs(math.cos(theta)) - 0.28 * abs(math.sin(theta))
+        return c if c == 254 else (253 if lowest < self._face + 0.25 else c)
+
+
+def test_tight_spot_motion_is_judged_by_the_body_not_the_grid():
+    # a wall 2 cm from the robot's right side (its face at y = -0.25, the body's at -0.23):
+    # the padded footprint reaches into the wall's cells, so on the grid every pose collides
+    cm = _WallCostmap(face=-0.25)
+    rig = Rig(World(local_costmap=cm))
+    rig.world.robot.teleport(Pose2D(0.0, -0.01, 0.0))
+    assert cm.footprint_cost(0.0, -0.01, 0.0) == 254
+    status, _ = rig.run(rig.node("BackUp", backup_dist=0.5, backup_speed=0.15))
+    assert status == S and rig.world.robot.pose().x == pytest.approx(-0.5, abs=0.01)
+    # turning in place sweeps a corner through the wall: still refused
+    status, _ = rig.run(rig.node("Spin", spin_dist=1.0))
+    assert status == F and rig.get("spin_error_code") == BehaviorError.COLLISION_AHEAD
+    # a temporary goal: away from the wall on a gentle arc, the body never into the wall
+    w = World(local_costmap=cm, controller=ScriptedController(fail_always=True))
+    w.robot.teleport(Pose2D(0.0, -0.01, 0.0))
+    rig2 = Rig(w)
+    node = rig2.node("TemporaryGoal", search_radius=1.5, min_distance=0.6)
+    status, _ = rig2.run(node)
+    goal = rig2.get("temporary_goal")
+    assert status == S, node.feedback_message
+    assert goal.y > 0.2 and w.planner.calls == 0
+    lowest = [q.y - 0.22 * math.cos(q.theta) - 0.25 * abs(math.sin(q.theta))
+              for q in w.robot.trajectory]                 # the body's corner nearest the wall
+    assert min(lowest) >= -0.25 - 0.003

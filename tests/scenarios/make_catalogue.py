@@ -189,9 +189,12 @@ write("rotate_blocked_near_wall", "The robot starts alongside a wall, 5 cm from 
       expect:
         outcome: succeeded
         no_collision: true
-      known_issue: >
-        The local planner finds no valid trajectory this close to the wall, and no recovery of the
-        shipped trees drives straight ahead first.
+      expect_by_tree:
+        # the local planner finds no valid command this close to the wall and rotate_recovery
+        # is blocked: move_base waits out controller_patience and its four recoveries
+        move_base: {outcome: timeout}
+        # rotate blocked: TemporaryGoal backs away from the wall on a gentle, clear arc
+        smach_recovery: {recoveries_fired: [TemporaryGoal], max_time: 40}
       """)
 
 # 11. narrow gap that needs a longer sim_time
