@@ -67,20 +67,11 @@ def cube_table(pz: np.ndarray) -> tuple[np.ndarray, float]:
     return out, scale
 
 
-@njit(cache=True)
-def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
-                     bearings: np.ndarray, mount: np.ndarray, cubes: np.ndarray, scale: float,
-                     grid: np.ndarray, off_map_pz: float, range_max: float) -> float:
-    """amcl ``LikelihoodFieldModel``: p = 1 + sum(pz^3) per particle, weights *= p.
-
-    ``cubes, scale`` come from ``cube_table(hit_table(dist, ...))``; an end point off the map
-    scores ``off_map_pz`` (pz at max_occ_dist). Beams at or beyond range_max (and NaN) carry no
-    information and are skipped.
-    """
-    h, w = cubes.shape
-    n = particles.shape[0]
-    off_cube = off_map_pz * off_map_pz * off_map_pz
-    # keep only informative beams; precompute their directions in the laser frame
+@njit(cache=True, inline="always")
+def _beam_ends(ranges: np.ndarray, bearings: np.ndarray, mount: np.ndarray,
+               range_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """End points (x, y) in the laser frame of the informative beams only: those shorter than
+    ``range_max`` (a max-range or NaN reading carries no information)."""
     nb = 0
     for j in range(ranges.shape[0]):
         if ranges[j] < range_max:
@@ -95,20 +86,47 @@ def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndar
             rx[k] = r * math.cos(a)
             ry[k] = r * math.sin(a)
             k += 1
-    ox, oy, gc, gs = grid[0], grid[1], grid[2], grid[3]
+    return rx, ry
+
+
+@njit(cache=True, inline="always")
+def _laser_in_grid(px: float, py: float, pt: float, mount: np.ndarray,
+                   grid: np.ndarray) -> tuple[float, float, float, float]:
+    """The laser of a particle at (px, py, pt), in grid cells: a laser-frame point (x, y) lands
+    at (lx0 + cc x - ss y, ly0 + ss x + cc y). The rotation into the map's grid frame and the
+    division by the resolution are folded into one 2x2: cc, ss = cos, sin(pt - origin yaw) / res."""
+    gc, gs = grid[2], grid[3]
     inv_res = 1.0 / grid[4]
+    c = math.cos(pt)
+    s = math.sin(pt)
+    dx = px + c * mount[0] - s * mount[1] - grid[0]
+    dy = py + s * mount[0] + c * mount[1] - grid[1]
+    lx0 = (gc * dx + gs * dy) * inv_res
+    ly0 = (-gs * dx + gc * dy) * inv_res
+    cc = (gc * c + gs * s) * inv_res
+    ss = (gc * s - gs * c) * inv_res
+    return lx0, ly0, cc, ss
+
+
+@njit(cache=True)
+def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndarray,
+                     bearings: np.ndarray, mount: np.ndarray, cubes: np.ndarray, scale: float,
+                     grid: np.ndarray, off_map_pz: float, range_max: float) -> float:
+    """amcl ``LikelihoodFieldModel``: p = 1 + sum(pz^3) per particle, weights *= p.
+
+    ``cubes, scale`` come from ``cube_table(hit_table(dist, ...))``; an end point off the map
+    scores ``off_map_pz`` (pz at max_occ_dist). Beams at or beyond range_max (and NaN) carry no
+    information and are skipped.
+    """
+    h, w = cubes.shape
+    n = particles.shape[0]
+    off_cube = off_map_pz * off_map_pz * off_map_pz
+    rx, ry = _beam_ends(ranges, bearings, mount, range_max)
+    nb = rx.shape[0]
     total = 0.0
     for i in range(n):
-        pt = particles[i, 2]
-        # rotation of the laser frame into the map's grid frame, folded into one 2x2
-        c = math.cos(pt)
-        s = math.sin(pt)
-        dx = particles[i, 0] + c * mount[0] - s * mount[1] - ox
-        dy = particles[i, 1] + s * mount[0] + c * mount[1] - oy
-        lx0 = (gc * dx + gs * dy) * inv_res
-        ly0 = (-gs * dx + gc * dy) * inv_res
-        cc = (gc * c + gs * s) * inv_res  # cos(pt - origin yaw) / res
-        ss = (gc * s - gs * c) * inv_res  # sin(pt - origin yaw) / res
+        lx0, ly0, cc, ss = _laser_in_grid(particles[i, 0], particles[i, 1], particles[i, 2],
+                                          mount, grid)
         q = 0
         off = 0
         for j in range(nb):
@@ -138,33 +156,12 @@ def likelihood_field_prob(particles: np.ndarray, weights: np.ndarray, ranges: np
     """
     h, w = table.shape
     n = particles.shape[0]
-    nb = 0
-    for j in range(ranges.shape[0]):
-        if ranges[j] < range_max:
-            nb += 1
-    rx = np.empty(nb)
-    ry = np.empty(nb)
-    k = 0
-    for j in range(ranges.shape[0]):
-        r = ranges[j]
-        if r < range_max:
-            a = mount[2] + bearings[j]
-            rx[k] = r * math.cos(a)
-            ry[k] = r * math.sin(a)
-            k += 1
-    ox, oy, gc, gs = grid[0], grid[1], grid[2], grid[3]
-    inv_res = 1.0 / grid[4]
+    rx, ry = _beam_ends(ranges, bearings, mount, range_max)
+    nb = rx.shape[0]
     cells = np.empty((n, nb), np.int64)  # flat cell index per particle and beam, -1 off the map
     for i in range(n):
-        pt = particles[i, 2]
-        c = math.cos(pt)
-        s = math.sin(pt)
-        dx = particles[i, 0] + c * mount[0] - s * mount[1] - ox
-        dy = particles[i, 1] + s * mount[0] + c * mount[1] - oy
-        lx0 = (gc * dx + gs * dy) * inv_res
-        ly0 = (-gs * dx + gc * dy) * inv_res
-        cc = (gc * c + gs * s) * inv_res
-        ss = (gc * s - gs * c) * inv_res
+        lx0, ly0, cc, ss = _laser_in_grid(particles[i, 0], particles[i, 1], particles[i, 2],
+                                          mount, grid)
         for j in range(nb):
             gx = lx0 + cc * rx[j] - ss * ry[j]
             gy = ly0 + ss * rx[j] + cc * ry[j]
