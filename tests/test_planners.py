@@ -403,3 +403,40 @@ def test_degenerate_plans(kind: str, params: dict) -> None:
     assert tuple(near.path.poses[-1, :2]) == pytest.approx((1.04, 1.02))
     # the outer border is never planned through (navfn's COST_OBS border, outline_map)
     assert p.make_plan(Pose2D(1.0, 1.0), Pose2D(4.99, 3.99)).reason == "goal_occupied"
+
+
+# ---------------------------------------------------------------- tiled layout (big maps)
+
+@pytest.mark.parametrize("kind,params", [
+    ("navfn/NavfnROS", {}),
+    ("global_planner/GlobalPlanner", {}),
+    ("global_planner/GlobalPlanner", {"use_dijkstra": False, "use_grid_path": True}),
+    ("global_planner/GlobalPlanner", {"use_dijkstra": False, "use_quadratic": False}),
+])
+def test_tiled_wavefront_gives_the_same_potential_and_path(kind: str, params: dict) -> None:
+    """Big maps run the wavefront on a tiled copy of the map; it must visit cells in the same
+    order, so potentials and paths are bit-identical to the row-major run (odd sizes: padding)."""
+    from navcore.planners.wavefront import Workspace
+
+    rng = np.random.default_rng(11)
+    found = 0
+    for nx, ny in ((61, 45), (40, 33), (97, 70)):
+        cm = _office_like(rng, max(nx, ny))
+        cm.resize(nx, ny, 0.05, 0.0, 0.0)
+        cm.costs[:] = _office_like(rng, max(nx, ny)).costs[:ny, :nx]
+        params = dict(params, visualize_potential=True, publish_potential=True) \
+            if kind.startswith("global") else dict(params, visualize_potential=True)
+        flat, tiled = make_planner(kind, cm, params), make_planner(kind, cm, params)
+        flat._ws, tiled._ws = Workspace(tiled=False), Workspace(tiled=True)
+        free = np.argwhere(cm.costs[1:-1, 1:-1] == 0) + 1
+        for _ in range(4):
+            (sy, sx), (gy, gx) = free[rng.integers(len(free), size=2)]
+            a = flat.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
+            b = tiled.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
+            assert tiled._ws.tiled and not flat._ws.tiled
+            assert (a.ok, a.reason, flat.last_updates) == (b.ok, b.reason, tiled.last_updates)
+            np.testing.assert_array_equal(a.potential, b.potential)
+            if a.ok:
+                np.testing.assert_array_equal(a.path.poses, b.path.poses)
+                found += 1
+    assert found >= 8

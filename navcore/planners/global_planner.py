@@ -34,7 +34,7 @@ from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
 from navcore.planners.wavefront import (HEURISTIC_EUCLIDEAN, HEURISTIC_MANHATTAN,
                                         HEURISTIC_NONE, POT_HIGH, Workspace, kernel_tables,
-                                        propagate, reset_buffers)
+                                        run_wavefront)
 from navcore.types import Path, Pose2D
 
 GLOBAL_PLANNER_PARAMS = (
@@ -142,7 +142,6 @@ class GlobalPlanner:
         nx, ny = cm.size_x, cm.size_y
         ws = self._ws
         ws.ensure(nx, ny)
-        reset_buffers(ws.pot, ws.pending, nx, ny)
         lethal, neutral = p.lethal_cost, p.neutral_cost
         lut = global_planner_cost_table(lethal, neutral, p.cost_factor, p.allow_unknown)
         if cm.costs.dtype != np.uint8:
@@ -173,10 +172,10 @@ class GlobalPlanner:
         else:
             # exact: every step costs at least neutral_cost, so this is consistent
             hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
-        reached, self.last_updates, _ = propagate(
-            costs, *kernel_tables(lut, lethal, True), nx, ny, ws.pot, ws.pending,
-            ws.buf_a, ws.buf_b, ws.buf_c, seeds_a, pots_a, np.array(pushes, np.int64), target,
-            float(lethal), float(2 * neutral), 2 * nx * ny, p.use_quadratic, hkind, hscale)
+        reached, self.last_updates, _ = run_wavefront(
+            ws, costs, kernel_tables(lut, lethal, True), nx, ny, seeds_a, pots_a,
+            np.array(pushes, np.int64), target, float(lethal), float(2 * neutral), 2 * nx * ny,
+            p.use_quadratic, hkind, hscale)
         publish = p.publish_potential or p.visualize_potential
         potential = ws.pot.reshape(ny, nx) if publish else None
         goal_pose = goal

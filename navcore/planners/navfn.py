@@ -19,8 +19,7 @@ from navcore.params import Param, Parameters
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_NEUTRAL, gradient_path
-from navcore.planners.wavefront import (POT_HIGH, Workspace, kernel_tables, propagate,
-                                        reset_buffers)
+from navcore.planners.wavefront import POT_HIGH, Workspace, kernel_tables, run_wavefront
 from navcore.types import Path, Pose2D
 
 COST_NEUTRAL = 50
@@ -83,18 +82,16 @@ class NavFn:
         nx, ny = cm.size_x, cm.size_y
         ws = self._ws
         ws.ensure(nx, ny)
-        reset_buffers(ws.pot, ws.pending, nx, ny)
         lut = navfn_cost_table(p.allow_unknown)
         if cm.costs.dtype != np.uint8:
             raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         k = sc[1] * nx + sc[0]
         target = gc[1] * nx + gc[0] if gc is not None else 0  # off-map goal: ROS aims at cell 0
-        _, self.last_updates, _ = propagate(
-            costs, *kernel_tables(lut, COST_OBS, False), nx, ny, ws.pot, ws.pending, ws.buf_a,
-            ws.buf_b, ws.buf_c, np.array([k], np.int64), np.array([0.0], np.float32),
-            np.array([k + 1, k - 1, k - nx, k + nx], np.int64), target, float(COST_OBS),
-            float(2 * COST_NEUTRAL), 2 * nx * ny, True)
+        _, self.last_updates, _ = run_wavefront(
+            ws, costs, kernel_tables(lut, COST_OBS, False), nx, ny, np.array([k], np.int64),
+            np.array([0.0], np.float32), np.array([k + 1, k - 1, k - nx, k + nx], np.int64),
+            target, float(COST_OBS), float(2 * COST_NEUTRAL), 2 * nx * ny, True)
         potential = ws.pot.reshape(ny, nx) if p.visualize_potential else None
         best = search_tolerance(cm, ws.pot, goal, tol)
         if best is None:

@@ -56,6 +56,78 @@ def _heuristic(x: int, y: int, tx: int, ty: int, hkind: int, hscale: float) -> f
     return hscale * math.sqrt(dx * dx + dy * dy)
 
 
+# Tiled layout: the map in TILE x TILE blocks, row-major inside a block and block by block in
+# row-major order, so a cache line of potentials covers a 2-D patch instead of a piece of one row.
+# The wave front is a curve; row-major, each of its cells drags in three rows' worth of lines and
+# on big maps these no longer stay in cache from one cycle to the next.
+TILE_SHIFT = 3
+TILE = 1 << TILE_SHIFT
+TILED_MIN_CELLS = 3_000_000  # measured: no gain below about 2000^2 once the layout change counts
+
+
+@njit(cache=True, inline="always")
+def tile_index(x: int, y: int, ntx: int) -> int:
+    """Index of cell (x, y) in the tiled layout of a map ``ntx`` tiles wide."""
+    return (((y >> TILE_SHIFT) * ntx + (x >> TILE_SHIFT)) << (2 * TILE_SHIFT)) \
+        + ((y & (TILE - 1)) << TILE_SHIFT) + (x & (TILE - 1))
+
+
+@njit(cache=True, inline="always")
+def _cell_xy(n: int, nx: int, ntx: int, tiled: bool) -> tuple:
+    if not tiled:
+        y = n // nx
+        return n - y * nx, y
+    b = n >> (2 * TILE_SHIFT)
+    by = b // ntx
+    return ((b - by * ntx) << TILE_SHIFT) + (n & (TILE - 1)), \
+        (by << TILE_SHIFT) + ((n >> TILE_SHIFT) & (TILE - 1))
+
+
+@njit(cache=True)
+def _to_tiled(cells: np.ndarray, nx: int, ns: int, ntx: int) -> np.ndarray:
+    """Row-major cell indices to tiled ones (out-of-map ones become -1)."""
+    out = np.empty(cells.shape[0], np.int64)
+    for i in range(cells.shape[0]):
+        c = cells[i]
+        out[i] = tile_index(c % nx, c // nx, ntx) if 0 <= c < ns else -1
+    return out
+
+
+@njit(cache=True)
+def tile_map(costs: np.ndarray, nx: int, ny: int, out: np.ndarray, pad: int) -> None:
+    """Row-major uint8 map (flat) into the tiled layout; cells past the map edge get ``pad``."""
+    ntx = (nx + TILE - 1) // TILE
+    nty = (ny + TILE - 1) // TILE
+    for y in range(nty * TILE):
+        for bx in range(ntx):
+            base = tile_index(bx * TILE, y, ntx)
+            for lx in range(TILE):
+                x = bx * TILE + lx
+                out[base + lx] = costs[y * nx + x] if (x < nx and y < ny) else pad
+
+
+@njit(cache=True)
+def untile_pot(tpot: np.ndarray, nx: int, ny: int, out: np.ndarray) -> None:
+    """Tiled potential back to the row-major flat ``out``."""
+    ntx = (nx + TILE - 1) // TILE
+    for y in range(ny):
+        row = y * nx
+        for bx in range(ntx):
+            base = tile_index(bx * TILE, y, ntx)
+            for lx in range(min(TILE, nx - bx * TILE)):
+                out[row + bx * TILE + lx] = tpot[base + lx]
+
+
+@njit(cache=True)
+def _reset_tiled(tpot: np.ndarray, tpending: np.ndarray, nx: int, ny: int) -> None:
+    ntx = (nx + TILE - 1) // TILE
+    tpot[:] = POT_HIGH
+    tpending[:] = 4  # padding and border: never queued
+    for y in range(1, ny - 1):
+        for x in range(1, nx - 1):
+            tpending[tile_index(x, y, ntx)] = 0
+
+
 @njit(cache=True)
 def _grown(buf: np.ndarray, need: int) -> np.ndarray:
     big = np.empty(max(2 * buf.shape[0], need), buf.dtype)
@@ -78,7 +150,8 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
               nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray,
               buf_b: np.ndarray, buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
               push_cells: np.ndarray, target: int, threshold: float, increment: float,
-              max_cycles: int, quadratic: bool, hkind: int = 0, hscale: float = 0.0) -> tuple:
+              max_cycles: int, quadratic: bool, hkind: int = 0, hscale: float = 0.0,
+              tiled: bool = False) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
     ``costs`` is the flat uint8 costmap; ``lut[c]`` the cell cost, +inf where impassable (so the
@@ -93,8 +166,20 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
     ``calcNavFnAstar`` manner: a cell's band is decided by potential + ``hscale`` x its distance
     to ``target`` instead of the potential alone (the stored potential has no heuristic). With a
     consistent heuristic every cell whose key is below a finished band is final, as above.
+
+    With ``tiled`` the map arrays (``costs``, ``pot``, ``pending``) are in the tiled layout of
+    ``tile_index`` (see ``Workspace``) while seeds, pushes and target stay row-major indices; the
+    cells are visited in exactly the same order, so the potential is the same.
     """
     ns = nx * ny
+    ntx = (nx + TILE - 1) // TILE
+    tx = target % nx
+    ty = target // nx
+    if tiled:
+        seed_cells = _to_tiled(seed_cells, nx, ns, ntx)
+        push_cells = _to_tiled(push_cells, nx, ns, ntx)
+        target = tile_index(tx, ty, ntx)
+        ns = pot.shape[0]
     for i in range(seed_cells.shape[0]):
         k = seed_cells[i]
         if 0 <= k < ns:
@@ -109,15 +194,19 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
             cur[ncur] = m
             ncur += 1
             pending[m] = 1
-    tx = target % nx
-    ty = target // nx
     if hkind != HEURISTIC_NONE and seed_cells.shape[0] > 0:
         # the first band starts at the seed's key, not at its potential
-        threshold += _heuristic(seed_cells[0] % nx, seed_cells[0] // nx, tx, ty, hkind, hscale)
+        sx, sy = _cell_xy(seed_cells[0], nx, ntx, tiled)
+        threshold += _heuristic(sx, sy, tx, ty, hkind, hscale)
     t = np.float32(threshold)
     inc = np.float32(increment)
     unx = np.uintp(nx)
     one = np.uintp(1)
+    tsize = np.uintp(TILE)
+    tmask = np.uintp(TILE - 1)
+    tshift = np.uintp(TILE_SHIFT)
+    hjump = np.uintp(TILE * TILE - TILE)  # left/right across a tile edge: +-(TILE^2 - TILE + 1)
+    vjump = np.uintp(ntx * TILE * TILE - TILE * TILE)  # up/down across a tile row edge
     updates = 0
     cycle = 0
     reached = False
@@ -136,6 +225,20 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
         for i in range(ncur):
             # unsigned indices: numba then skips its negative-index wraparound test
             n = np.uintp(cur[i])
+            if tiled:
+                # neighbour offsets: +-1 and +-TILE inside a tile, jumps to the next tile at
+                # its edges (computed without branches: the edge test is a coin flip)
+                lx = n & tmask
+                ly = (n >> tshift) & tmask
+                ol = one + ((tsize - lx) >> tshift) * hjump
+                orr = one + ((lx + one) >> tshift) * hjump
+                od = tsize + ((tsize - ly) >> tshift) * vjump
+                ou = tsize + ((ly + one) >> tshift) * vjump
+            else:
+                ol = one
+                orr = one
+                od = unx
+                ou = unx
             if not from_over:
                 # a queue filled as ``next`` holds each cell once, so its flag can be cleared
                 # as the cell comes up: a cell lowered earlier in this cycle that is still to come
@@ -144,10 +247,10 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
             cn = costs[n]
             updates += 1
             hf = lut_hf[cn]  # queued cells are passable: every push checks it
-            l = pot[n - one]
-            r = pot[n + one]
-            u = pot[n - unx]
-            d = pot[n + unx]
+            l = pot[n - ol]
+            r = pot[n + orr]
+            u = pot[n - od]
+            d = pot[n + ou]
             tc = min(l, r)
             ta0 = min(u, d)
             ta = min(ta0, tc)
@@ -165,56 +268,56 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
             if hkind == HEURISTIC_NONE:
                 tn = np.intp(p < t)
             else:
-                y = np.intp(n // unx)
-                tn = np.intp(p + _heuristic(np.intp(n) - y * nx, y, tx, ty, hkind, hscale) < t)
+                hx, hy = _cell_xy(np.intp(n), nx, ntx, tiled)
+                tn = np.intp(p + _heuristic(hx, hy, tx, ty, hkind, hscale) < t)
             # the push rule above, per neighbour (left, right, -nx, +nx), written out: passing
             # the arrays to a helper costs reference counting in this loop. Below the threshold
             # (nearly always, so well predicted) only next is touched, else only overflow.
             if tn:
-                m = n - one
+                m = n - ol
                 pq = np.intp(pending[m])
                 okn = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
                 pending[m] = np.uint8(pq + okn * (1 - pq))
                 nxt[nnext] = m
                 nnext += okn
-                m = n + one
+                m = n + orr
                 pq = np.intp(pending[m])
                 okn = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
                 pending[m] = np.uint8(pq + okn * (1 - pq))
                 nxt[nnext] = m
                 nnext += okn
-                m = n - unx
+                m = n - od
                 pq = np.intp(pending[m])
                 okn = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
                 pending[m] = np.uint8(pq + okn * (1 - pq))
                 nxt[nnext] = m
                 nnext += okn
-                m = n + unx
+                m = n + ou
                 pq = np.intp(pending[m])
                 okn = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
                 pending[m] = np.uint8(pq + okn * (1 - pq))
                 nxt[nnext] = m
                 nnext += okn
             else:
-                m = n - one
+                m = n - ol
                 pq = np.intp(pending[m])
                 oko = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
                 pending[m] = np.uint8(pq + 2 * oko)
                 over[nover] = m
                 nover += oko
-                m = n + one
+                m = n + orr
                 pq = np.intp(pending[m])
                 oko = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
                 pending[m] = np.uint8(pq + 2 * oko)
                 over[nover] = m
                 nover += oko
-                m = n - unx
+                m = n - od
                 pq = np.intp(pending[m])
                 oko = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
                 pending[m] = np.uint8(pq + 2 * oko)
                 over[nover] = m
                 nover += oko
-                m = n + unx
+                m = n + ou
                 pq = np.intp(pending[m])
                 oko = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
                 pending[m] = np.uint8(pq + 2 * oko)
@@ -268,21 +371,55 @@ def reset_buffers(pot: np.ndarray, pending: np.ndarray, nx: int, ny: int) -> Non
 
 
 class Workspace:
-    """Per-map-size buffers reused from plan to plan (ROS reallocates them on every plan)."""
+    """Per-map-size buffers reused from plan to plan (ROS reallocates them on every plan).
 
-    def __init__(self) -> None:
+    ``tiled`` None picks the tiled layout for maps of ``TILED_MIN_CELLS`` or more; the row-major
+    potential ``pot`` is there either way after ``run_wavefront``.
+    """
+
+    def __init__(self, tiled: bool | None = None) -> None:
         self.shape: tuple[int, int] = (0, 0)
+        self.want_tiled = tiled
+        self.tiled = False
 
     def ensure(self, nx: int, ny: int) -> None:
         if self.shape == (nx, ny):
             return
         ns = nx * ny
         self.shape = (nx, ny)
+        self.tiled = ns >= TILED_MIN_CELLS if self.want_tiled is None else self.want_tiled
         self.pot = np.empty(ns, np.float32)
-        self.pending = np.empty(ns, np.uint8)
         # Whole-map queues: current and next hold a cell at most once, so they cannot overflow;
         # the overflow queue grows itself in the rare case its repeats outgrow the map.
         # np.empty does not touch the pages, so unused queue space costs no time.
         self.buf_a = np.empty(ns, np.int32)
         self.buf_b = np.empty(ns, np.int32)
         self.buf_c = np.empty(ns, np.int32)
+        if self.tiled:
+            nt = ((nx + TILE - 1) // TILE) * ((ny + TILE - 1) // TILE) * TILE * TILE
+            self.tcosts = np.empty(nt, np.uint8)
+            self.tpot = np.empty(nt, np.float32)
+            self.pending = np.empty(nt, np.uint8)
+        else:
+            self.pending = np.empty(ns, np.uint8)
+
+
+def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int,
+                  seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
+                  target: int, threshold: float, increment: float, max_cycles: int,
+                  quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0) -> tuple:
+    """``propagate`` on the workspace (``ensure`` it first) from a fresh start, in the tiled
+    layout when the workspace uses it; the row-major potential ends in ``ws.pot``. ``costs`` is
+    the flat row-major uint8 costmap, ``tables`` the ``kernel_tables``."""
+    if not ws.tiled:
+        reset_buffers(ws.pot, ws.pending, nx, ny)
+        return propagate(costs, *tables, nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b,
+                         ws.buf_c, seed_cells, seed_pots, push_cells, target, threshold,
+                         increment, max_cycles, quadratic, hkind, hscale, False)
+    tile_map(costs, nx, ny, ws.tcosts, 254)  # padding is also never queued (pending 4)
+    _reset_tiled(ws.tpot, ws.pending, nx, ny)
+    out = propagate(ws.tcosts, *tables, nx, ny, ws.tpot, ws.pending, ws.buf_a, ws.buf_b,
+                    ws.buf_c, seed_cells, seed_pots, push_cells, target, threshold, increment,
+                    max_cycles, quadratic, hkind, hscale, True)
+    untile_pot(ws.tpot, nx, ny, ws.pot)
+    return out
