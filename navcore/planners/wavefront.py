@@ -98,34 +98,61 @@ def tile_map(costs: np.ndarray, nx: int, ny: int, out: np.ndarray, pad: int) -> 
     """Row-major uint8 map (flat) into the tiled layout; cells past the map edge get ``pad``."""
     ntx = (nx + TILE - 1) // TILE
     nty = (ny + TILE - 1) // TILE
+    full = nx // TILE  # tiles wholly inside the map's width: a fixed-length copy each
     for y in range(nty * TILE):
-        for bx in range(ntx):
-            base = tile_index(bx * TILE, y, ntx)
+        base = tile_index(0, y, ntx)
+        if y >= ny:
+            for bx in range(ntx):
+                for lx in range(TILE):
+                    out[base + (bx << (2 * TILE_SHIFT)) + lx] = pad
+            continue
+        row = y * nx
+        for bx in range(full):
+            o = base + (bx << (2 * TILE_SHIFT))
+            r = row + bx * TILE
             for lx in range(TILE):
-                x = bx * TILE + lx
-                out[base + lx] = costs[y * nx + x] if (x < nx and y < ny) else pad
+                out[o + lx] = costs[r + lx]
+        if full < ntx:
+            o = base + (full << (2 * TILE_SHIFT))
+            for lx in range(TILE):
+                x = full * TILE + lx
+                out[o + lx] = costs[row + x] if x < nx else pad
 
 
 @njit(cache=True)
 def untile_pot(tpot: np.ndarray, nx: int, ny: int, out: np.ndarray) -> None:
     """Tiled potential back to the row-major flat ``out``."""
     ntx = (nx + TILE - 1) // TILE
+    full = nx // TILE
     for y in range(ny):
         row = y * nx
-        for bx in range(ntx):
-            base = tile_index(bx * TILE, y, ntx)
-            for lx in range(min(TILE, nx - bx * TILE)):
-                out[row + bx * TILE + lx] = tpot[base + lx]
+        base = tile_index(0, y, ntx)
+        for bx in range(full):
+            o = base + (bx << (2 * TILE_SHIFT))
+            r = row + bx * TILE
+            for lx in range(TILE):
+                out[r + lx] = tpot[o + lx]
+        if full < ntx:
+            o = base + (full << (2 * TILE_SHIFT))
+            for lx in range(nx - full * TILE):
+                out[row + full * TILE + lx] = tpot[o + lx]
 
 
 @njit(cache=True)
 def _reset_tiled(tpot: np.ndarray, tpending: np.ndarray, nx: int, ny: int) -> None:
+    """POT_HIGH everywhere; pending 0 inside, 4 (never queued) on the border and the padding."""
     ntx = (nx + TILE - 1) // TILE
+    nty = (ny + TILE - 1) // TILE
     tpot[:] = POT_HIGH
-    tpending[:] = 4  # padding and border: never queued
-    for y in range(1, ny - 1):
-        for x in range(1, nx - 1):
-            tpending[tile_index(x, y, ntx)] = 0
+    tpending[:] = 0
+    for x in range(ntx * TILE):
+        tpending[tile_index(x, 0, ntx)] = 4
+        for y in range(ny - 1, nty * TILE):
+            tpending[tile_index(x, y, ntx)] = 4
+    for y in range(ny):
+        tpending[tile_index(0, y, ntx)] = 4
+        for x in range(nx - 1, ntx * TILE):
+            tpending[tile_index(x, y, ntx)] = 4
 
 
 @njit(cache=True)
