@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import threading
 
 import pytest
 from hypothesis import given, settings
@@ -17,6 +16,8 @@ from hw.emulators.pty_port import PtyDevice
 from hw.interfaces import Base
 from navcore.clock import SimClock, WallClock
 from navcore.types import Twist
+from tests.test_hw_support import clean_registry  # noqa: F401 (pytest fixture)
+from tests.test_hw_support import drive, pieces
 
 
 def test_command_bytes_and_replies() -> None:
@@ -57,8 +58,8 @@ def test_encoder_reply_round_trip_and_cuts(left: int, right: int, data: st.DataO
     stream = f"{left} {right}\r\nOK\r\n".encode()
     cuts = sorted(set(data.draw(st.lists(st.integers(1, len(stream) - 1), max_size=6))))
     dec, lines = ac.LineDecoder(b"\r"), []
-    for a, b in zip([0, *cuts], [*cuts, len(stream)]):
-        lines += dec.feed(stream[a:b])
+    for piece in pieces(stream, cuts):
+        lines += dec.feed(piece)
     assert lines == [f"{left} {right}", "OK"]
     assert ac.parse_encoders(lines[0]) == (left, right)
 
@@ -85,22 +86,6 @@ def test_corruption_outside_digits_is_rejected(left: int, right: int, data: st.D
         except ac.ArduinoError:
             pass
     assert parsed == []
-
-
-@pytest.fixture
-def clean_registry():
-    yield
-    emu.unplug_all()
-    assert [t.name for t in threading.enumerate()
-            if t.name.endswith("-reader") or t.name == "pty-device"] == []
-
-
-def drive(drv, cmd: Twist, seconds: float) -> None:
-    clock = WallClock()
-    end = clock.now() + seconds
-    while clock.now() < end:
-        drv.send(cmd)
-        wait_until(lambda: False, 0.05)
 
 
 def test_driving_and_odometry_over_sim_url(clean_registry) -> None:

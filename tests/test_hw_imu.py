@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import threading
 
 import pytest
 from hypothesis import given, settings
@@ -22,6 +21,8 @@ from hw.emulators.vectornav import VectorNavEmulator
 from hw.interfaces import ImuSensor
 from navcore.clock import SimClock, WallClock
 from navcore.types import angle_diff
+from tests.test_hw_support import clean_registry  # noqa: F401 (pytest fixture)
+from tests.test_hw_support import collect_fresh, decode_valid, pieces
 
 VN_REF = ("$VNYMR,+100.949,-007.330,+000.715,-00.0049,-00.2449,+00.5397,-01.258,-00.100,"
           "-09.701,-00.000018,+00.001122,-00.000551*69")
@@ -87,14 +88,7 @@ ymrs = st.builds(lambda a, m, c, g: vc.parse_ymr(vc.Ymr(a, m, c, g).line().decod
 
 
 def vn_decode(stream: bytes, cuts: list[int] = ()) -> list[vc.Ymr]:
-    dec, out = LineDecoder(), []
-    for a, b in zip([0, *cuts], [*cuts, len(stream)]):
-        for line in dec.feed(stream[a:b]):
-            try:
-                out.append(vc.parse_ymr(line))
-            except vc.VnError:
-                pass
-    return out
+    return decode_valid(LineDecoder(), vc.parse_ymr, vc.VnError, stream, cuts)
 
 
 @settings(max_examples=150, deadline=None)
@@ -130,20 +124,12 @@ def test_razor_round_trip_and_cuts(ypr, gyro, data) -> None:
     stream = s.line() * 3
     cuts = sorted(set(data.draw(st.lists(st.integers(1, len(stream) - 1), max_size=8))))
     dec, got = LineDecoder(), []
-    for a, b in zip([0, *cuts], [*cuts, len(stream)]):
-        got += [rc.parse_line(ln) for ln in dec.feed(stream[a:b])]
+    for piece in pieces(stream, cuts):
+        got += [rc.parse_line(ln) for ln in dec.feed(piece)]
     assert got == [s, s, s]
 
 
 # ---- drivers ----------------------------------------------------------------------------------
-
-
-@pytest.fixture
-def clean_registry():
-    yield
-    emu.unplug_all()
-    assert [t.name for t in threading.enumerate()
-            if t.name.endswith("-reader") or t.name == "pty-device"] == []
 
 
 def turning(t: float) -> tuple[float, float, float, float]:
@@ -169,16 +155,9 @@ def test_driver_streams_true_samples_through_faults(clean_registry, kind, faults
     with drv_cls(f"sim://{kind}?id=imu&{faults}".rstrip("&"), clock) as d:
         assert isinstance(d, ImuSensor)
         assert d.wait_connected(5.0), d.last_error
-        seen = []
-
-        def more() -> bool:
-            m = d.imu()
-            if m is not None and (not seen or m is not seen[-1]):
-                # stamped on arrival: late by at most the injected delay plus one read
-                check(m, clock, 0.05 + (0.03 if "delay" in faults else 0.0))
-                seen.append(m)
-            return len(seen) >= 20
-        assert wait_until(more, 5.0)
+        # stamped on arrival: late by at most the injected delay plus one read
+        tol = 0.05 + (0.03 if "delay" in faults else 0.0)
+        assert len(collect_fresh(d.imu, 20, 5.0, lambda m: check(m, clock, tol))) >= 20
         if kind == "vectornav" and faults and not faults.startswith(("drop", "delay")):
             assert d.rejected > 0
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import struct
-import threading
 
 import pytest
 from hypothesis import given, settings
@@ -19,6 +18,8 @@ from hw.emulators.pty_port import PtyDevice
 from hw.interfaces import Base
 from navcore.clock import SimClock, WallClock
 from navcore.types import Twist
+from tests.test_hw_support import clean_registry  # noqa: F401 (pytest fixture)
+from tests.test_hw_support import decode_valid, drive
 
 # ---- codec: golden bytes from hw_protocols.md 3.2 ---------------------------------------------
 
@@ -103,14 +104,7 @@ feedbacks = st.builds(
 
 
 def decode_all(stream: bytes, cuts: list[int] = ()) -> list[kc.Feedback]:
-    dec, out = kc.FrameDecoder(), []
-    for a, b in zip([0, *cuts], [*cuts, len(stream)]):
-        for p in dec.feed(stream[a:b]):
-            try:
-                out.append(kc.parse_feedback(p))
-            except kc.KobukiError:
-                pass
-    return out
+    return decode_valid(kc.FrameDecoder(), kc.parse_feedback, kc.KobukiError, stream, cuts)
 
 
 @settings(max_examples=150, deadline=None)
@@ -144,23 +138,6 @@ def test_stream_cut_anywhere_decodes_the_same(fbs: list, junk: bytes, data: st.D
 
 
 # ---- driver against the emulator --------------------------------------------------------------
-
-
-@pytest.fixture
-def clean_registry():
-    yield
-    emu.unplug_all()
-    assert [t.name for t in threading.enumerate()
-            if t.name.endswith("-reader") or t.name == "pty-device"] == []
-
-
-def drive(drv: KobukiDriver, cmd: Twist, seconds: float) -> None:
-    """Keep commanding, like a 20 Hz control loop (wall time, for WallClock tests)."""
-    clock = WallClock()
-    stop = clock.now() + seconds
-    while clock.now() < stop:
-        drv.send(cmd)
-        wait_until(lambda: False, 0.05)
 
 
 def test_streaming_odometry_battery_events_over_sim_url(clean_registry) -> None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import threading
 
 import numpy as np
 import pytest
@@ -17,6 +16,8 @@ from hw.emulators.harness import wait_until
 from hw.emulators.lms2xx import Lms200Emulator, Lms291Emulator
 from hw.emulators.pty_port import PtyDevice
 from navcore.clock import SimClock, WallClock
+from tests.test_hw_support import clean_registry  # noqa: F401 (pytest fixture)
+from tests.test_hw_support import collect_fresh, decode_valid
 
 
 @pytest.mark.parametrize("tel,crc", [
@@ -106,15 +107,11 @@ scans = scans_of([101, 181, 201, 361, 401])
 
 
 def valid(stream: bytes, n: int, cuts: list[int] = ()) -> list[lc.ScanValues]:
-    dec, out = lc.TelegramDecoder(), []
-    for a, b in zip([0, *cuts], [*cuts, len(stream)]):
-        for t in dec.feed(stream[a:b]):
-            if isinstance(t, lc.Telegram):
-                try:
-                    out.append(lc.parse_scan(t, n))
-                except lc.LmsError:
-                    pass
-    return out
+    def parse(t) -> lc.ScanValues:
+        if not isinstance(t, lc.Telegram):  # a lone ACK/NAK byte
+            raise lc.LmsError("not a telegram")
+        return lc.parse_scan(t, n)
+    return decode_valid(lc.TelegramDecoder(), parse, lc.LmsError, stream, cuts)
 
 
 @settings(max_examples=100, deadline=None)
@@ -155,26 +152,11 @@ def source(t: float, angles: np.ndarray) -> np.ndarray:
     return truth(angles)
 
 
-@pytest.fixture
-def clean_registry():
-    yield
-    emu.unplug_all()
-    assert [t.name for t in threading.enumerate()
-            if t.name.endswith("-reader") or t.name == "pty-device"] == []
-
-
 def collect(drv: Lms2xxDriver, n: int, unit: float = 0.01, timeout: float = 5.0) -> list:
-    seen: list = []
-
-    def more() -> bool:
-        s = drv.scan()
-        if s is not None and (not seen or s is not seen[-1]):
-            want = np.round(truth(s.angles()) / unit) * unit
-            assert np.allclose(s.ranges, want, atol=unit * 0.6), "a wrong scan was delivered"
-            seen.append(s)
-        return len(seen) >= n
-    wait_until(more, timeout)
-    return seen
+    def check(s) -> None:
+        want = np.round(truth(s.angles()) / unit) * unit
+        assert np.allclose(s.ranges, want, atol=unit * 0.6), "a wrong scan was delivered"
+    return collect_fresh(drv.scan, n, timeout, check)
 
 
 @pytest.mark.parametrize("model,cls,inc", [("lms200", Lms200Emulator, 1.0),

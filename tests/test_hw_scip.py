@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from hw.drivers import scip
 from hw.emulators.urg04lx import Urg04lxEmulator
 from navcore.clock import SimClock
+from tests.test_hw_support import decode_valid
 
 
 @pytest.mark.parametrize("payload,char", [(b"00", "P"), (b"99", "b"), (b"02", "R"),
@@ -155,17 +156,8 @@ def scans(draw: st.DrawFn) -> tuple[scip.ScanRequest, bytes, np.ndarray, int]:
 
 
 def _valid_scans(stream: bytes, req: scip.ScanRequest, chunks: list[int] | None = None) -> list:
-    dec = scip.ScipDecoder()
-    pieces = [stream] if chunks is None else \
-        [stream[a:b] for a, b in zip([0] + chunks, chunks + [len(stream)])]
-    out = []
-    for p in pieces:
-        for rep in dec.feed(p):
-            try:
-                out.append(scip.parse_scan(rep, req))
-            except scip.ScipError:
-                pass
-    return out
+    return decode_valid(scip.ScipDecoder(), lambda rep: scip.parse_scan(rep, req), scip.ScipError,
+                        stream, chunks or ())
 
 
 @settings(max_examples=150, deadline=None)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import threading
 
 import numpy as np
 import pytest
@@ -15,6 +14,8 @@ from hw.emulators.pty_port import PtyDevice
 from hw.emulators.urg04lx import Urg04lxEmulator
 from hw.interfaces import Laser
 from navcore.clock import WallClock
+from tests.test_hw_support import clean_registry  # noqa: F401 (pytest fixture)
+from tests.test_hw_support import collect_fresh
 
 
 def truth(angles: np.ndarray) -> np.ndarray:
@@ -26,14 +27,6 @@ def source(t: float, angles: np.ndarray) -> np.ndarray:
     return truth(angles)
 
 
-@pytest.fixture
-def clean_registry():
-    yield
-    emu.unplug_all()
-    assert [t.name for t in threading.enumerate() if t.name.endswith("-reader")
-            or t.name == "pty-device"] == []
-
-
 def check(scan) -> None:
     """Every delivered scan must be the true one, to the millimetre."""
     want = np.round(truth(scan.angles()) * 1000) / 1000
@@ -41,16 +34,7 @@ def check(scan) -> None:
 
 
 def collect(drv: Urg04lxDriver, n: int, timeout: float = 5.0, verify=check) -> list:
-    seen: list = []
-
-    def more() -> bool:
-        s = drv.scan()
-        if s is not None and (not seen or s is not seen[-1]):
-            verify(s)
-            seen.append(s)
-        return len(seen) >= n
-    wait_until(more, timeout)
-    return seen
+    return collect_fresh(drv.scan, n, timeout, verify)
 
 
 def test_startup_and_streaming_over_sim_url(clean_registry) -> None:
