@@ -13,6 +13,8 @@ from hw.sim.sensors import odometry_noise_step
 from navcore.clock import SimClock
 from navcore.maps import OccupancyGrid
 from navcore.types import Pose2D, Twist
+from tests.test_raycast import analytic_box_range as box_range
+from tests.test_raycast import box_world as box_cells
 
 RES = 0.05
 QUIET = {"odom_alpha1": 0.0, "odom_alpha2": 0.0, "odom_alpha3": 0.0, "odom_alpha4": 0.0,
@@ -21,30 +23,13 @@ QUIET = {"odom_alpha1": 0.0, "odom_alpha2": 0.0, "odom_alpha3": 0.0, "odom_alpha
 
 def box_world(n: int = 100) -> World:
     """n x n cells, 2-cell walls: the free inside is [0.1, (n - 2) * RES]^2."""
-    g = np.zeros((n, n), np.int16)
-    g[:2, :] = g[-2:, :] = 100
-    g[:, :2] = g[:, -2:] = 100
-    return World(OccupancyGrid(g, RES))
+    return World(OccupancyGrid(box_cells(n).astype(np.int16) * 100, RES))
 
 
 def make(world: World, robot: dict, start: Pose2D = Pose2D(), seed: int = 0
          ) -> tuple[Simulator, SimClock]:
     clock = SimClock()
     return Simulator(world, robot, clock, np.random.default_rng(seed), start=start), clock
-
-
-def box_range(x: float, y: float, a: float, lo: float, hi: float) -> float:
-    dx, dy = math.cos(a), math.sin(a)
-    ts = []
-    if dx > 1e-12:
-        ts.append((hi - x) / dx)
-    if dx < -1e-12:
-        ts.append((lo - x) / dx)
-    if dy > 1e-12:
-        ts.append((hi - y) / dy)
-    if dy < -1e-12:
-        ts.append((lo - y) / dy)
-    return min(ts)
 
 
 @pytest.mark.parametrize("preset", ["urg04lx", "lms200", "lms291"])
