@@ -111,6 +111,97 @@ class HardwareIO:
         close_devices(self.devices)
 
 
+class _LockstepBase:
+    """A thread-free base driver whose command goes on the wire at once: in lock-step a command
+    sent after the cycle's poll would otherwise wait a whole cycle for the next one."""
+
+    def __init__(self, driver: Any) -> None:
+        self.driver = driver
+
+    def send(self, cmd: Any) -> None:
+        self.driver.send(cmd)
+        self.driver.poll()
+
+    def odometry(self) -> Any:
+        return self.driver.odometry()
+
+    def battery(self) -> Any:
+        return self.driver.battery()
+
+    def events(self) -> Any:
+        return self.driver.events()
+
+
+class EmulatedIO(HardwareIO):
+    """RobotIO over the real Kobuki and URG-04LX drivers in lock-step (polled once per cycle on
+    the mission clock), their emulators driven by the simulator (``hw.sim.emulated_devices``).
+
+    The executive's control sees only the drivers (pose from AMCL over their odometry and
+    scans); ``true_pose`` and ``in_collision`` are the simulator's, for the record and scoring."""
+
+    def __init__(self, devices: dict[str, Any], bridge: Any) -> None:
+        super().__init__(devices)
+        self.base = _LockstepBase(devices["base"])
+        self.bridge = bridge
+        self.sim = bridge.sim
+
+    def step_to(self, t: float) -> None:
+        from hw.devices import poll_devices
+        poll_devices(self.devices)   # the base emulator steps the simulator up to the clock
+
+    def true_pose(self) -> Pose2D | None:
+        return self.sim.true_pose()
+
+    def in_collision(self) -> bool:
+        return bool(self.sim.in_collision())
+
+    def close(self) -> None:
+        try:
+            super().close()
+        finally:
+            self.bridge.unplug()
+
+
+def _emulated_io(config: RobotConfig, sim: Any, clock: Clock, rng: np.random.Generator,
+                 ident: str) -> EmulatedIO:
+    """Kobuki and URG-04LX emulators on ``sim``, their drivers opened thread-free and started
+    (connected and delivering) in lock-step. Driver ``params`` come from ``robot.devices`` when
+    it names these devices."""
+    from hw.devices import DeviceConfigError, open_devices
+    from hw.sim.emulated_devices import SimDevices, lockstep_start
+    try:
+        bridge = SimDevices(sim, rng.spawn(1)[0], ident.strip("/"))
+    except ValueError as e:
+        raise WiringError(f"{config.source}: {e}") from None
+    urls = bridge.plug()
+    m = bridge.mount
+    entries: dict[str, Any] = {"base": {"url": urls["base"]},
+                               "laser": {"url": urls["laser"], "mount": [m.x, m.y, m.theta]}}
+    for role, device in (("base", "kobuki"), ("laser", "urg04lx")):
+        given = (config.devices or {}).get(role)
+        if isinstance(given, dict) and str(given.get("url", "")).startswith(device + "://"):
+            entries[role]["params"] = given.get("params") or {}
+    try:
+        devices = open_devices(entries, clock, lockstep=True)
+        lockstep_start(devices, clock)
+    except (DeviceConfigError, TimeoutError) as e:
+        bridge.unplug()
+        raise WiringError(f"{config.source}: emulated devices: {e}") from None
+    return EmulatedIO(devices, bridge)
+
+
+def hardware_mode(hardware: bool | str) -> str:
+    """``build_mission``'s ``hardware`` -> "sim", "devices" (robot.devices, wall clock, reader
+    threads) or "emulated" (the simulator behind device emulators, drivers in lock-step)."""
+    if hardware is False or hardware in ("sim", "", None):
+        return "sim"
+    if hardware is True or hardware == "devices":
+        return "devices"
+    if hardware == "emulated":
+        return "emulated"
+    raise WiringError(f"hardware: expected False, True, 'devices' or 'emulated', got {hardware!r}")
+
+
 def amcl_estimator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D | None,
                    mount: Pose2D, rng: np.random.Generator) -> tuple[Any, Any]:
     """AMCL (navcore.localization) as the executive's estimator: map pose = map->odom (+) odom.
@@ -199,10 +290,16 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
                   start: Pose2D | None, *,
                   world: World | None = None, seed: int = 0, realtime: bool = False,
                   recorder: Recorder | None = None, meta: dict[str, Any] | None = None,
-                  hardware: bool = False) -> Mission:
-    """Load the tree, build every component from ``config`` and put them in an Executive."""
+                  hardware: bool | str = False) -> Mission:
+    """Load the tree, build every component from ``config`` and put them in an Executive.
+
+    ``hardware``: False runs the simulator's direct interfaces; True (or "devices") the drivers
+    of ``robot.devices`` on the wall clock with reader threads; "emulated" the real Kobuki and
+    URG-04LX drivers in lock-step over ``sim://`` byte streams whose emulators the simulator
+    drives (deterministic on the simulated clock, one trace per seed)."""
     world = world or World()
-    clock: Clock = WallClock() if realtime or hardware else SimClock()
+    mode = hardware_mode(hardware)
+    clock: Clock = WallClock() if realtime or mode == "devices" else SimClock()
     rng = np.random.default_rng(seed)
     from executive.executive import _mission_ids  # shared counter keeps namespaces unique
     namespace = f"/mission_{next(_mission_ids)}"
@@ -214,7 +311,7 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
     except ImportError as e:
         raise WiringError(f"component not available: {e}") from None
     sim = None
-    if hardware:
+    if mode == "devices":
         if config.robot.devices != "hw" or "base" not in config.devices:
             raise WiringError(f"{config.source}: robot: devices: give {{base: URL, laser: URL}} "
                               "to drive real hardware")
@@ -224,12 +321,16 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
         except (DeviceConfigError, OSError) as e:
             raise WiringError(f"{config.source}: {e}") from None
         mount = getattr(io.laser, "mount", Pose2D())
+    elif mode == "emulated":
+        sim = _simulator(config, grid, start or Pose2D(), world, clock, rng)
+        io = _emulated_io(config, sim, clock, rng, namespace)
+        mount = io.laser.mount
     else:
         sim = _simulator(config, grid, start or Pose2D(), world, clock, rng)
         io = SimIO(sim)
         mount = sim.config.laser.mount if sim.config.laser is not None else Pose2D()
     localizer, estimator = None, None
-    if "amcl" in config.namespaces or hardware:
+    if "amcl" in config.namespaces or mode != "sim":   # drivers give no ground truth
         localizer, estimator = amcl_estimator(config, grid, start, mount, rng)
     components = {
         "global_costmap": global_cm,
@@ -274,6 +375,8 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
                                  start=None if start is None else [start.x, start.y,
                                                                    start.theta]))
     except Exception as e:  # noqa: BLE001 - a node's setup (e.g. a missing component)
+        if isinstance(io, HardwareIO):
+            io.close()       # drivers opened for a mission that will not run
         raise WiringError(f"{tree_path}: tree setup failed: {e}") from None
     return Mission(ex, grid, config, sim, components, world, tree_path)
 

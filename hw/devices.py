@@ -9,7 +9,9 @@ Each entry is ``<device>://<port>`` or a mapping ``{url: ..., params: {...}, mou
 
 ``<port>`` is a path, ``sim`` (the device's emulator, URL options passed on), or any pyserial URL
 (``socket://``, ``rfc2217://``, ``hwgrep://``, ``sim://...``). Drivers come back started; their
-readers never block, and ``close_devices`` stops them.
+readers never block, and ``close_devices`` stops them. With ``lockstep=True`` they come back without
+threads instead: the caller drives them with ``poll_devices`` once per cycle (deterministic on a
+SimClock with ``sim://`` emulators).
 """
 
 from __future__ import annotations
@@ -67,9 +69,11 @@ def parse_device_url(role: str, url: str) -> tuple[str, str]:
     return device, port
 
 
-def open_devices(devices: Mapping[str, Any], clock: Clock) -> dict[str, Any]:
+def open_devices(devices: Mapping[str, Any], clock: Clock, lockstep: bool = False
+                 ) -> dict[str, Any]:
     """Build and start the driver of every role in ``devices`` (keys: base, laser, imu).
-    Configuration errors are raised before any driver starts."""
+    Configuration errors are raised before any driver starts. ``lockstep``: no reader threads;
+    the drivers connect and read on ``poll_devices``."""
     if not isinstance(devices, Mapping):
         raise DeviceConfigError(f"devices: expected a mapping of role to URL, got {devices!r}")
     plans = []
@@ -96,7 +100,16 @@ def open_devices(devices: Mapping[str, Any], clock: Clock) -> dict[str, Any]:
         except ValueError as e:          # ParameterError names the parameter
             raise DeviceConfigError(f"devices.{role}: {e}") from None
         plans.append((role, drv))
+    if lockstep:
+        return dict(plans)
     return {role: drv.start() for role, drv in plans}
+
+
+def poll_devices(opened: Mapping[str, Any]) -> None:
+    """One lock-step turn of every thread-free driver (base first: on an emulated robot its
+    emulator steps the world the others then measure)."""
+    for role in sorted(opened, key=lambda r: r != "base"):
+        opened[role].poll()
 
 
 def close_devices(opened: Mapping[str, Any]) -> None:

@@ -33,6 +33,12 @@ def plug(ident: str, emulator: Emulator, faults: Faults | None = None, seed: int
     return link
 
 
+def unplug(ident: str) -> None:
+    """Forget the emulator registered under ``ident`` (if any)."""
+    with _lock:
+        _registry.pop(ident, None)
+
+
 def unplug_all() -> None:
     """Forget every registered emulator (test teardown)."""
     with _lock:
@@ -107,5 +113,5 @@ def link_for_url(url: str, clock: Clock | None = None) -> Link:
     return link
 
 
-__all__ = ["Emulator", "Faults", "Link", "Unplugged", "plug", "lookup", "unplug_all",
+__all__ = ["Emulator", "Faults", "Link", "Unplugged", "plug", "lookup", "unplug", "unplug_all",
            "link_for_url", "emulator_types"]
