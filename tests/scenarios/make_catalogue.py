@@ -24,10 +24,11 @@ class G:
     def text(self):
         return "\n".join("".join(r) for r in self.g)
 
-def write(name, description, g, body):
+def write(name, description, g, body, resolution=0.1):
     art = textwrap.indent(g.text(), "    ")
     doc = f"name: {name}\ndescription: >\n{textwrap.indent(textwrap.fill(description, 96), '  ')}\n"
-    doc += f"map:\n  resolution: 0.1\n  ascii: |\n{art}\n" + textwrap.dedent(body).strip() + "\n"
+    doc += (f"map:\n  resolution: {resolution}\n  ascii: |\n{art}\n"
+            + textwrap.dedent(body).strip() + "\n")
     with open(os.path.join(OUT, name + ".yaml"), "w") as f:
         f.write(doc)
 
@@ -156,16 +157,22 @@ write("unknown_box", "A box the map does not know stands in the middle of a wide
         no_collision: true
       """)
 
-# 9. dead end: only backing off helps
-g = G(50, 30)
-g.fill(35, 1, 45, 11, "#"); g.fill(35, 19, 45, 28, "#")   # pocket y 1.2..1.9 (0.7 m), x 3.5..4.5
-g.fill(46, 1, 48, 28, "#")
-write("dead_end_backoff", "The robot is sent into a dead-end bay barely wider than itself, then to a "
-      "goal behind it. It cannot turn in the bay and its local planner never drives backwards "
-      "(min_vel_x 0, the ROS default): rotating is impossible, and only backing off along the way "
-      "it came gets it out.", g, """
-      start: [1.0, 1.55, 0.0]
-      goals: [[4.1, 1.55, 0.0], [1.0, 1.55, 3.1416]]
+# 9. dead end: only backing off helps. Drawn at 5 cm a character: the bay is 0.65 m wide, less
+# than the body's diagonal (0.67 m), so the robot really cannot turn in it (the earlier 0.7 m bay
+# left room to turn on the spot). The robot starts in it: a local planner on an inflated costmap
+# (DWA, as in ROS) cannot drive into a bay narrower than its turning circle by itself (the
+# corridor of non-inscribed cells along its middle is one 5 cm cell wide), so it was pushed or
+# driven in by hand.
+g = G(96, 60)
+g.fill(66, 1, 89, 23, "#"); g.fill(66, 37, 89, 58, "#")   # bay x 3.3..4.5, y 1.20..1.85
+g.fill(90, 1, 94, 58, "#")
+write("dead_end_backoff", "The robot stands at the end of a dead-end bay barely wider than itself "
+      "(0.65 m for a 0.50 x 0.44 m body whose diagonal is 0.67 m), facing the closed end, with "
+      "its goal behind it. It cannot turn in the bay and its local planner never drives "
+      "backwards (min_vel_x 0, the ROS default): rotating is impossible, and only backing out "
+      "gets it free.", g, """
+      start: [3.95, 1.525, 0.0]
+      goals: [[0.8, 1.525, 3.1416]]
       params:
         DWAPlannerROS: {min_vel_x: 0.0}
       time_limit: 60
@@ -173,10 +180,11 @@ write("dead_end_backoff", "The robot is sent into a dead-end bay barely wider th
         outcome: succeeded
         no_collision: true
       expect_by_tree:
-        move_base: {outcome: null}   # not expected to get out; it must not collide
-      known_issue: >
-        BackOffToPreviousPose does not yet get the robot out of the bay before FollowPath gives up.
-      """)
+        # no valid command, rotate_recovery blocked: move_base aborts after its recoveries
+        move_base: {outcome: failed}
+        # rotate blocked: TemporaryGoal backs straight out of the bay on its own clear arc
+        smach_recovery: {recoveries_fired: [TemporaryGoal], max_time: 40}
+      """, resolution=0.05)
 
 # 10. rotate recovery impossible next to a wall
 g = G(60, 30)
