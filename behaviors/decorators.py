@@ -7,7 +7,7 @@ clock, so Timeout, Delay and RateController run in simulated time.
 from __future__ import annotations
 
 import math
-from typing import Any, Iterator
+from typing import Any, ClassVar, Iterator
 
 import py_trees
 
@@ -61,7 +61,32 @@ class ForceFailure(_Passthrough):
         return Status.RUNNING if status == Status.RUNNING else Status.FAILURE
 
 
-class RetryUntilSuccessful(DecoratorNode):
+class _Rerun(DecoratorNode):
+    """Run the child again each time it ends with ``RERUN_ON``, until it has done so
+    ``LIMIT_PORT`` times in all (-1: forever); RUNNING in between, so the rerun starts on the next
+    tick. Any other final status passes through. (Shared by RetryUntilSuccessful and Repeat.)
+    """
+
+    RERUN_ON: ClassVar[Status]
+    LIMIT_PORT: ClassVar[str]
+    FEEDBACK: ClassVar[str]  # said at each counted run: {n} runs so far, {limit}
+
+    def tick(self) -> Iterator[Behaviour]:
+        if self.status != Status.RUNNING:
+            self._count = 0
+        yield from self.decorated.tick()
+        status = self.decorated.status
+        if status == self.RERUN_ON:
+            self._count += 1
+            limit = self.get_input(self.LIMIT_PORT)
+            self.say(self.FEEDBACK.format(n=self._count, limit=limit))
+            if limit < 0 or self._count < limit:
+                self.decorated.stop(Status.INVALID)
+                status = Status.RUNNING
+        yield from self._finish(status)
+
+
+class RetryUntilSuccessful(_Rerun):
     """Run the child again after a failure, up to ``num_attempts`` attempts in all (-1: forever).
 
     SUCCESS as soon as the child succeeds; FAILURE after the last failed attempt. Unlike BT.CPP,
@@ -71,23 +96,11 @@ class RetryUntilSuccessful(DecoratorNode):
 
     INPUT_PORTS = {"num_attempts": PortInformation(int, False, "attempts in all; -1 = forever", 1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def tick(self) -> Iterator[Behaviour]:
-        if self.status != Status.RUNNING:
-            self._attempts = 0
-        yield from self.decorated.tick()
-        status = self.decorated.status
-        if status == Status.FAILURE:
-            self._attempts += 1
-            limit = self.get_input("num_attempts")
-            self.say(f"attempt {self._attempts} of {limit} failed")
-            if limit < 0 or self._attempts < limit:
-                self.decorated.stop(Status.INVALID)
-                status = Status.RUNNING
-        yield from self._finish(status)
+    RERUN_ON, LIMIT_PORT = Status.FAILURE, "num_attempts"
+    FEEDBACK = "attempt {n} of {limit} failed"
 
 
-class Repeat(DecoratorNode):
+class Repeat(_Rerun):
     """Run the child ``num_cycles`` times in a row (-1: forever), one run per tick at most.
 
     RUNNING between runs; FAILURE as soon as a run fails; SUCCESS after the last success.
@@ -95,20 +108,8 @@ class Repeat(DecoratorNode):
 
     INPUT_PORTS = {"num_cycles": PortInformation(int, False, "successful runs; -1 = forever", 1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-
-    def tick(self) -> Iterator[Behaviour]:
-        if self.status != Status.RUNNING:
-            self._done = 0
-        yield from self.decorated.tick()
-        status = self.decorated.status
-        if status == Status.SUCCESS:
-            self._done += 1
-            limit = self.get_input("num_cycles")
-            self.say(f"cycle {self._done} of {limit} done")
-            if limit < 0 or self._done < limit:
-                self.decorated.stop(Status.INVALID)
-                status = Status.RUNNING
-        yield from self._finish(status)
+    RERUN_ON, LIMIT_PORT = Status.SUCCESS, "num_cycles"
+    FEEDBACK = "cycle {n} of {limit} done"
 
 
 class KeepRunningUntilFailure(DecoratorNode):
