@@ -20,7 +20,7 @@ from hw.sim import physics as ph
 from hw.sim.config import RobotConfig, robot_config
 from hw.sim.faults import Fault, fault_from_mapping
 from hw.sim.sensors import scan_ranges
-from hw.sim.world import World
+from hw.sim.world import World, first_after
 from navcore.clock import Clock
 from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
@@ -332,12 +332,7 @@ class Simulator:
         return None
 
     def _next_fault_change(self, t: float) -> float:
-        nxt = math.inf
-        for f in self._faults:
-            for b in (f.start, f.end):
-                if t < b < nxt:
-                    nxt = b
-        return nxt
+        return first_after(t, (b for f in self._faults for b in (f.start, f.end)))
 
     def _update_fault_vector(self, t: float) -> None:
         fv = self._faultv

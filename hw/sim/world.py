@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence, Union
+from typing import Iterable, Sequence, Union
 
 import numpy as np
 
@@ -20,6 +20,12 @@ from navcore.raycast import clearance_field
 
 class WorldError(ValueError):
     """An object or world description is malformed; the message names the object and field."""
+
+
+def first_after(t: float, times: Iterable[float]) -> float:
+    """The earliest of ``times`` strictly after t (inf if none): where a physics chunk must end
+    so that a scheduled change (an object appearing, a fault starting or ending) is on time."""
+    return min((s for s in times if s > t), default=math.inf)
 
 
 def _finite(where: str, **values: float) -> None:
@@ -227,12 +233,7 @@ class World:
         chunk there so that objects pop in and out on time."""
         if not self._timed:
             return math.inf
-        nxt = math.inf
-        for o in self._objects:
-            for s in (o.appear, o.disappear):
-                if t < s < nxt:
-                    nxt = s
-        return nxt
+        return first_after(t, (s for o in self._objects for s in (o.appear, o.disappear)))
 
     @property
     def dynamic(self) -> bool:
