@@ -154,9 +154,7 @@ class ArduinoBaseDriver(SerialDriver):
     def _on_bytes(self, data: bytes) -> None:
         before = self._lines.errors
         lines = self._lines.feed(data)
-        if self._lines.errors != before:
-            self.rejected += self._lines.errors - before - 1
-            self._reject("garbled reply line")
+        self._reject_decoder_errors(before, self._lines.errors, "garbled reply line")
         for line in lines:
             if not self._pending:
                 self._reject(f"unsolicited reply {line!r}")

@@ -42,6 +42,4 @@ class LineImuDriver(SerialDriver):
                 self._imu = msg
             self.delivered += 1
             self.mark_valid()
-        if self._lines.errors != before:
-            self.rejected += self._lines.errors - before - 1
-            self._reject("garbled line")
+        self._reject_decoder_errors(before, self._lines.errors, "garbled line")

@@ -116,9 +116,7 @@ class KobukiDriver(SerialDriver):
                 continue
             n += 1
             self._use(fb)
-        if self._dec.errors != before:
-            self.rejected += self._dec.errors - before - 1
-            self._reject(self._dec.last_error)
+        self._reject_decoder_errors(before, self._dec.errors, self._dec.last_error)
         return n
 
     def _use(self, fb: kc.Feedback) -> None:

@@ -134,7 +134,5 @@ class Lms2xxDriver(SerialDriver):
                 self._scan = msg
             self.delivered += 1
             self.mark_valid()
-        if self._dec.errors != before:
-            self.rejected += self._dec.errors - before - 1
-            self._reject(self._dec.last_error)
+        self._reject_decoder_errors(before, self._dec.errors, self._dec.last_error)
 

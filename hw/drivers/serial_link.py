@@ -125,6 +125,13 @@ class SerialDriver:
         self.rejected += 1
         self.last_error = why
 
+    def _reject_decoder_errors(self, before: int, now: int, why: str) -> None:
+        """Count the frames a decoder dropped (its error count went from ``before`` to ``now``)
+        as rejected, with ``why`` as the last error."""
+        if now != before:
+            self.rejected += now - before - 1
+            self._reject(why)
+
     # -- the thread --------------------------------------------------------------------------
     def _drop_port(self) -> None:
         port, self._port = self._port, None

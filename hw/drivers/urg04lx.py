@@ -170,6 +170,4 @@ class Urg04lxDriver(SerialDriver):
                 self._scan = msg
             self.delivered += 1
             self.mark_valid()
-        if self._decoder.errors != before:
-            self.rejected += self._decoder.errors - before - 1
-            self._reject(self._decoder.last_error)
+        self._reject_decoder_errors(before, self._decoder.errors, self._decoder.last_error)
