@@ -2,7 +2,7 @@
 
 A footprint is an (N, 2) float64 polygon in the robot frame. ``footprint_cost`` is a numba kernel
 meant to be called from other kernels (the local planner scores hundreds of thousands of poses per
-cycle), so it allocates one tiny array per call and reads each covered cell once.
+cycle), so it allocates nothing and reads each covered cell once.
 """
 
 from __future__ import annotations
@@ -12,7 +12,10 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 NUM_RADIUS_VERTICES = 16  # makeFootprintFromRadius uses a 16-gon
 
@@ -100,36 +103,68 @@ def circumscribed_radius(fp: np.ndarray) -> float:
     return _min_max_distances(fp)[1]
 
 
+@intrinsic
+def _prefetch(typingctx, arr, row, col):  # type: ignore[no-untyped-def]
+    """Hint the CPU to fetch cell [row, col] of a C-contiguous 2-D array into cache (a hint
+    only: never faults, changes nothing)."""
+    if not (isinstance(arr, types.Array) and arr.ndim == 2):
+        return None
+
+    def codegen(context, builder, sig, args):
+        a = context.make_array(sig.args[0])(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, sig.args[0], a, [args[1], args[2]],
+                                       wraparound=False)
+        i8p = ir.IntType(8).as_pointer()
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [i8p, ir.IntType(32), ir.IntType(32),
+                                                            ir.IntType(32)]), "llvm.prefetch.p0i8")
+        i32 = ir.IntType(32)
+        builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+    return types.none(arr, row, col), codegen
+
+
 @njit(cache=True, nogil=True, inline="always")
-def _vertex(footprint: np.ndarray, k: int, x: float, y: float, c: float, s: float,
-            origin_x: float, origin_y: float, inv: float) -> tuple[float, float]:
-    """Vertex k at the pose, in cell units from the grid origin."""
-    return ((x + c * footprint[k, 0] - s * footprint[k, 1] - origin_x) * inv,
-            (y + s * footprint[k, 0] + c * footprint[k, 1] - origin_y) * inv)
+def _place(fx: float, fy: float, x: float, y: float, c: float, s: float, origin_x: float,
+           origin_y: float, inv: float) -> tuple[float, float]:
+    """Robot-frame point (fx, fy) at pose (x, y, c = cos, s = sin), in cell units from the grid
+    origin.
+
+    Scalars only, like every helper of the kernel: an inlined helper that takes an array costs an
+    atomic reference count increment and decrement per call, more than all the arithmetic here.
+    """
+    return ((x + c * fx - s * fy - origin_x) * inv, (y + s * fx + c * fy - origin_y) * inv)
 
 
 @njit(cache=True, nogil=True)
-def _square_meets_polygon(u: np.ndarray, v: np.ndarray, i: int, j: int) -> bool:
-    """Whether the closed cell square [i, i+1] x [j, j+1] meets the polygon (u, v) (cell units):
-    a vertex inside the square, a square corner inside the polygon, or an edge crossing it."""
-    n = u.shape[0]
+def _square_meets_polygon(footprint: np.ndarray, x: float, y: float, c: float, s: float,
+                          origin_x: float, origin_y: float, inv: float, i: int, j: int) -> bool:
+    """Whether the closed cell square [i, i+1] x [j, j+1] meets the footprint placed at the pose
+    (cell units): a vertex inside the square, a square corner inside the polygon, or an edge
+    crossing it. Vertices are placed on the fly: no scratch array."""
+    n = footprint.shape[0]
     for k in range(n):
-        if i <= u[k] <= i + 1 and j <= v[k] <= j + 1:
+        u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+        if i <= u <= i + 1 and j <= v <= j + 1:
             return True
     for corner in range(4):
         cx = i + (corner & 1)
         cy = j + (corner >> 1)
         inside = False
+        au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x, origin_y,
+                        inv)
         for k in range(n):
-            au, av, bu, bv = u[k - 1], v[k - 1], u[k], v[k]
+            bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
             if (av <= cy) != (bv <= cy):
                 if au + (cy - av) * (bu - au) / (bv - av) > cx:
                     inside = not inside
+            au, av = bu, bv
         if inside:
             return True
+    au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x, origin_y, inv)
     for k in range(n):  # clip each edge to the square (Liang-Barsky)
-        au, av = u[k - 1], v[k - 1]
-        du, dv = u[k] - au, v[k] - av
+        bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+        du, dv = bu - au, bv - av
         t0, t1 = 0.0, 1.0
         ok = True
         for side in range(4):
@@ -154,7 +189,23 @@ def _square_meets_polygon(u: np.ndarray, v: np.ndarray, i: int, j: int) -> bool:
                 break
         if ok:
             return True
+        au, av = bu, bv
     return False
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _edge_in_band(au: float, av: float, bu: float, bv: float, band: int, lo: float, hi: float
+                  ) -> tuple[float, float]:
+    """Widen the x extent (lo, hi) of row band ``band`` by the part of edge a->b inside it
+    (a horizontal edge counts whole)."""
+    e0 = min(av, bv)
+    e1 = max(av, bv)
+    if e0 == e1:
+        return min(lo, min(au, bu)), max(hi, max(au, bu))
+    slope = (bu - au) / (bv - av)
+    xa = au + (max(e0, float(band)) - av) * slope
+    xb = au + (min(e1, band + 1.0) - av) * slope
+    return min(lo, min(xa, xb)), max(hi, max(xa, xb))
 
 
 @njit(cache=True, nogil=True)
@@ -164,9 +215,12 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     passes through and every cell inside it (a conservative rasterisation: no cell the robot
     overlaps is missed). -1 if any vertex is off the map.
 
-    Row by row: the part of each edge within a row band gives the row's x extent; for a convex
-    footprint the covered cells of a row are that one span, read with a vectorised max. A
-    non-convex footprint checks each cell of the span exactly. One small allocation per call.
+    Row band by row band, bottom to top: the part of each edge within a band gives the band's x
+    extent. An outline that rises monotonically on both sides of its lowest vertex (any convex
+    one) is walked along those two chains, an edge at a time, so each band's extent is complete
+    when the walk leaves it; any other outline is scanned edge by edge per band. For a convex
+    footprint the covered cells of a row are that one span, read with a vectorisable max; a
+    non-convex one checks each cell of the span exactly. Allocates nothing.
     """
     n = footprint.shape[0]
     size_y = costs.shape[0]
@@ -174,69 +228,118 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     c = math.cos(theta)
     s = math.sin(theta)
     inv = 1.0 / resolution
+    # one pass over the vertices: on the map, lowest and highest, convex, v-monotone
     vmin = 1e300
     vmax = -1e300
-    for k in range(n):
-        a, b = _vertex(footprint, k, x, y, c, s, origin_x, origin_y, inv)
-        if not (a >= 0.0 and b >= 0.0 and a < size_x and b < size_y):  # also catches NaN
-            return -1
-        vmin = min(vmin, b)
-        vmax = max(vmax, b)
-    r0 = int(vmin)
-    rows = int(vmax) - r0 + 1
-    span = np.empty(2 * rows, dtype=np.float64)  # x extent of row band r: [2r], [2r + 1]
-    for r in range(rows):
-        span[2 * r] = 1e300
-        span[2 * r + 1] = -1e300
+    umin = 1e300
+    umax = -1e300
+    bottom = 0
+    top = 0
     convex = True
     turn = 0.0
-    au, av = _vertex(footprint, n - 1, x, y, c, s, origin_x, origin_y, inv)
-    bu, bv = _vertex(footprint, 0, x, y, c, s, origin_x, origin_y, inv)
+    changes = 0  # sign changes of dv around the outline: 2 for a v-monotone one
+    first_dv = 0.0
+    last_dv = 0.0
+    au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x, origin_y, inv)
+    bu, bv = _place(footprint[0, 0], footprint[0, 1], x, y, c, s, origin_x, origin_y, inv)
     for k in range(n):
-        cu, cv = _vertex(footprint, k + 1 if k + 1 < n else 0, x, y, c, s, origin_x, origin_y,
-                         inv)
+        if not (bu >= 0.0 and bv >= 0.0 and bu < size_x and bv < size_y):  # also catches NaN
+            return -1
+        if bv < vmin:
+            vmin = bv
+            bottom = k
+        if bv > vmax:
+            vmax = bv
+            top = k
+        umin = min(umin, bu)
+        umax = max(umax, bu)
+        kn = k + 1 if k + 1 < n else 0
+        cu, cv = _place(footprint[kn, 0], footprint[kn, 1], x, y, c, s, origin_x, origin_y, inv)
         cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
         if cross != 0.0:  # convex iff every turn has one sign
             if turn == 0.0:
                 turn = cross
             elif (cross > 0.0) != (turn > 0.0):
                 convex = False
-        e0 = min(av, bv)
-        e1 = max(av, bv)
-        if e0 == e1:
-            r = int(e0) - r0
-            span[2 * r] = min(span[2 * r], min(au, bu))
-            span[2 * r + 1] = max(span[2 * r + 1], max(au, bu))
-        else:
-            slope = (bu - au) / (bv - av)
-            for band in range(int(e0), int(e1) + 1):
-                xa = au + (max(e0, float(band)) - av) * slope
-                xb = au + (min(e1, band + 1.0) - av) * slope
-                r = band - r0
-                span[2 * r] = min(span[2 * r], min(xa, xb))
-                span[2 * r + 1] = max(span[2 * r + 1], max(xa, xb))
+        dv = bv - av
+        if dv != 0.0:
+            if last_dv == 0.0:
+                first_dv = dv
+            elif (dv > 0.0) != (last_dv > 0.0):
+                changes += 1
+            last_dv = dv
         au, av, bu, bv = bu, bv, cu, cv
+    if last_dv != 0.0 and (first_dv > 0.0) != (last_dv > 0.0):
+        changes += 1  # across the wrap
+    monotone = changes == 2 and bottom != top
+    # ask for both ends of each row's bounding-box stretch first: the fetches overlap, so on a
+    # large costmap that is not in cache the rows cost about one memory latency, not one each
+    for row in range(int(vmin), int(vmax) + 1):
+        _prefetch(costs, row, int(umin))
+        _prefetch(costs, row, int(umax))
+    # chain state: the current edge runs from vertex p (lower) to the next one (q) along the
+    # chain; f walks forward (k + 1), g backward (k - 1). Edges are evaluated in polygon order
+    # (vertex k - 1 -> k), so the numbers are the ones a plain per-edge pass computes.
+    fp = bottom
+    fpu, fpv = _place(footprint[fp, 0], footprint[fp, 1], x, y, c, s, origin_x, origin_y, inv)
+    q = fp + 1 if fp + 1 < n else 0
+    fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
+    gp = bottom
+    gpu, gpv = fpu, fpv
+    q = gp - 1 if gp > 0 else n - 1
+    gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
     best = 0
-    for r in range(rows):
-        if span[2 * r] > span[2 * r + 1]:
+    for row in range(int(vmin), int(vmax) + 1):
+        lo = 1e300
+        hi = -1e300
+        if monotone:
+            while fp != top:
+                lo, hi = _edge_in_band(fpu, fpv, fqu, fqv, row, lo, hi)
+                if fqv >= row + 1.0:  # the edge goes on into the next band
+                    break
+                fp = fp + 1 if fp + 1 < n else 0
+                fpu, fpv = fqu, fqv
+                if fp != top:
+                    q = fp + 1 if fp + 1 < n else 0
+                    fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
+                                      origin_y, inv)
+            while gp != top:
+                lo, hi = _edge_in_band(gqu, gqv, gpu, gpv, row, lo, hi)
+                if gqv >= row + 1.0:
+                    break
+                gp = gp - 1 if gp > 0 else n - 1
+                gpu, gpv = gqu, gqv
+                if gp != top:
+                    q = gp - 1 if gp > 0 else n - 1
+                    gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
+                                      origin_y, inv)
+        else:  # a rare outline: every edge, for every band
+            au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x,
+                            origin_y, inv)
+            for k in range(n):
+                bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y,
+                                inv)
+                if min(av, bv) < row + 1.0 and int(max(av, bv)) >= row:
+                    lo, hi = _edge_in_band(au, av, bu, bv, row, lo, hi)
+                au, av = bu, bv
+        if lo > hi:
             continue
-        row = r0 + r
-        m0 = int(span[2 * r])
-        m1 = min(int(span[2 * r + 1]), size_x - 1)
-        crow = costs[row]
+        m0 = int(lo)
+        m1 = min(int(hi), size_x - 1)
         if convex:
             rb = np.uint8(0)
-            for mx in range(m0, m1 + 1):
-                rb = max(rb, crow[mx])  # branch-free, vectorisable
-            best = max(best, np.int64(rb))
+            # unsigned column indices: no negative-index wraparound, so plain contiguous loads
+            for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
+                rb = max(rb, costs[row, mx])  # branch-free
+            if rb > best:
+                best = np.int64(rb)
+                if best == 255:  # nothing can be higher
+                    return best
         else:
-            u = np.empty(n, dtype=np.float64)
-            v = np.empty(n, dtype=np.float64)
-            for k in range(n):
-                u[k], v[k] = _vertex(footprint, k, x, y, c, s, origin_x, origin_y, inv)
             for mx in range(m0, m1 + 1):
-                if crow[mx] > best and _square_meets_polygon(u, v, mx, row):
-                    best = np.int64(crow[mx])
+                if costs[row, mx] > best and _square_meets_polygon(
+                        footprint, x, y, c, s, origin_x, origin_y, inv, mx, row):
+                    best = np.int64(costs[row, mx])
     return best
 
 
