@@ -194,18 +194,23 @@ def _square_meets_polygon(footprint: np.ndarray, x: float, y: float, c: float, s
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _edge_in_band(au: float, av: float, bu: float, bv: float, band: int, lo: float, hi: float
-                  ) -> tuple[float, float]:
+def _edge_in_band(au: float, av: float, bu: float, bv: float, slope: float, band: int,
+                  lo: float, hi: float) -> tuple[float, float]:
     """Widen the x extent (lo, hi) of row band ``band`` by the part of edge a->b inside it
-    (a horizontal edge counts whole)."""
+    (a horizontal edge counts whole); ``slope`` = (bu - au) / (bv - av), from ``_slope``."""
     e0 = min(av, bv)
     e1 = max(av, bv)
     if e0 == e1:
         return min(lo, min(au, bu)), max(hi, max(au, bu))
-    slope = (bu - au) / (bv - av)
     xa = au + (max(e0, float(band)) - av) * slope
     xb = au + (min(e1, band + 1.0) - av) * slope
     return min(lo, min(xa, xb)), max(hi, max(xa, xb))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _slope(au: float, av: float, bu: float, bv: float) -> float:
+    """du/dv of edge a->b (0 for a horizontal edge, which ``_edge_in_band`` takes whole)."""
+    return 0.0 if av == bv else (bu - au) / (bv - av)
 
 
 @njit(cache=True, nogil=True)
@@ -284,17 +289,19 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     fpu, fpv = _place(footprint[fp, 0], footprint[fp, 1], x, y, c, s, origin_x, origin_y, inv)
     q = fp + 1 if fp + 1 < n else 0
     fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
+    fslope = _slope(fpu, fpv, fqu, fqv)
     gp = bottom
     gpu, gpv = fpu, fpv
     q = gp - 1 if gp > 0 else n - 1
     gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
+    gslope = _slope(gqu, gqv, gpu, gpv)
     best = 0
     for row in range(int(vmin), int(vmax) + 1):
         lo = 1e300
         hi = -1e300
         if monotone:
             while fp != top:
-                lo, hi = _edge_in_band(fpu, fpv, fqu, fqv, row, lo, hi)
+                lo, hi = _edge_in_band(fpu, fpv, fqu, fqv, fslope, row, lo, hi)
                 if fqv >= row + 1.0:  # the edge goes on into the next band
                     break
                 fp = fp + 1 if fp + 1 < n else 0
@@ -303,8 +310,9 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                     q = fp + 1 if fp + 1 < n else 0
                     fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
                                       origin_y, inv)
+                    fslope = _slope(fpu, fpv, fqu, fqv)
             while gp != top:
-                lo, hi = _edge_in_band(gqu, gqv, gpu, gpv, row, lo, hi)
+                lo, hi = _edge_in_band(gqu, gqv, gpu, gpv, gslope, row, lo, hi)
                 if gqv >= row + 1.0:
                     break
                 gp = gp - 1 if gp > 0 else n - 1
@@ -313,6 +321,7 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                     q = gp - 1 if gp > 0 else n - 1
                     gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
                                       origin_y, inv)
+                    gslope = _slope(gqu, gqv, gpu, gpv)
         else:  # a rare outline: every edge, for every band
             au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x,
                             origin_y, inv)
@@ -320,7 +329,7 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                 bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y,
                                 inv)
                 if min(av, bv) < row + 1.0 and int(max(av, bv)) >= row:
-                    lo, hi = _edge_in_band(au, av, bu, bv, row, lo, hi)
+                    lo, hi = _edge_in_band(au, av, bu, bv, _slope(au, av, bu, bv), row, lo, hi)
                 au, av = bu, bv
         if lo > hi:
             continue
