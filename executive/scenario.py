@@ -429,8 +429,9 @@ def scenario_config(scenario: Scenario, base: str | None = None) -> Any:
 
 def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = None,
                  config_path: str | None = None,
-                 on_tick: Any = None) -> ScenarioResult:
-    """Run one scenario against one tree in the simulator (simulated clock)."""
+                 on_tick: Any = None, hardware: bool | str = False) -> ScenarioResult:
+    """Run one scenario against one tree in the simulator (simulated clock); ``hardware=
+    "emulated"`` runs it through the real drivers and device emulators (see build_mission)."""
     from navcore.clock import WallClock
 
     from executive.config import ConfigError
@@ -450,7 +451,7 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     try:
         mission = build_mission(tree_path, config, scenario.grid, scenario.start, world=world,
                                 seed=scenario.seed, recorder=Recorder(log),
-                                meta={"scenario": scenario.name})
+                                meta={"scenario": scenario.name}, hardware=hardware)
         result = run_mission(mission, scenario.goals, scenario.time_limit, on_tick=on_tick)
         if record_dir is not None:
             from executive.run_folder import finish
@@ -460,6 +461,8 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
                    phantoms=[shape.polygon() for shape, _ in scenario.phantoms])
         fired_types = [r["type"] for r in mission.executive.trace.recoveries]
         mission.executive.shutdown()
+        if hasattr(mission.executive.io, "close"):
+            mission.executive.io.close()      # drivers and emulators of hardware="emulated"
     finally:
         if log is not None:
             log.close()

@@ -19,9 +19,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", metavar="DIR", help="write a run folder to DIR")
     p.add_argument("--seed", type=int, default=0, help="simulator random seed (default 0)")
     p.add_argument("--time-limit", type=float, default=600.0, help="simulated seconds (600)")
-    p.add_argument("--hw", action="store_true",
-                   help="drive the real robot of the config's robot.devices instead of the "
-                        "simulator")
+    hw = p.add_mutually_exclusive_group()
+    hw.add_argument("--hw", action="store_true",
+                    help="drive the real robot of the config's robot.devices instead of the "
+                         "simulator")
+    hw.add_argument("--hw-emulated", action="store_true",
+                    help="run through the real Kobuki and URG-04LX drivers and byte streams, "
+                         "their device emulators driven by the simulator (deterministic)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -51,14 +55,15 @@ def run(args: argparse.Namespace) -> int:
         log = open_log(args.record)
     try:
         mission = build_mission(args.tree, config, grid, start, seed=args.seed,
-                                realtime=args.realtime, recorder=Recorder(log), hardware=args.hw)
+                                realtime=args.realtime, recorder=Recorder(log),
+                                hardware="emulated" if args.hw_emulated else args.hw)
     except (TreeLoadError, WiringError) as e:
         return fail("run", str(e))
     progress = Progress()
     result = run_mission(mission, list(args.goal), args.time_limit,
                          on_tick=progress_callback(progress, args.time_limit))
     progress.done()
-    if args.hw:
+    if args.hw or args.hw_emulated:
         mission.executive.io.close()
     if log is not None:
         log.close()

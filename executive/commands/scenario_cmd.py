@@ -20,6 +20,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     r.add_argument("--record", metavar="DIR", help="write a run folder per scenario and tree "
                                                    "under DIR")
     r.add_argument("--json", action="store_true", help="print results as JSON")
+    r.add_argument("--hw-emulated", action="store_true",
+                   help="run through the real Kobuki and URG-04LX drivers and byte streams, "
+                        "their device emulators driven by the simulator")
     c = sub.add_parser("check", help="validate scenario files without running them",
                        description="validate scenario files without running them")
     c.add_argument("paths", nargs="+", metavar="PATH")
@@ -58,7 +61,8 @@ def run(args: argparse.Namespace) -> int:
             if args.record:
                 record = os.path.join(args.record, f"{s.name}__{os.path.splitext(os.path.basename(t))[0]}")
             try:
-                results.append(run_scenario(s, t, record_dir=record, config_path=args.config))
+                results.append(run_scenario(s, t, record_dir=record, config_path=args.config,
+                                            hardware="emulated" if args.hw_emulated else False))
             except (ScenarioError, TreeLoadError) as e:
                 return fail("scenario", str(e))
             except Exception as e:  # noqa: BLE001 - one broken component: say where, stop

@@ -9,7 +9,10 @@ streams while the simulator stays the ground truth:
   odometry saw back as encoder motion (so slip, faults and contacts reach the encoders); the
   bumper and battery voltage follow the simulator too.
 - URG-04LX: each scan is ray cast in the simulator's world (map + objects at the scan's time)
-  from the laser's true pose at mid-sweep, with the simulated laser's range noise.
+  from the laser's true pose at mid-sweep, with the simulated laser's range noise. The
+  simulator's laser faults reach the wire: ``laser_dropout`` unplugs the emulated laser (the
+  driver sees its port die and reconnects when the fault ends), ``laser_frozen`` repeats the
+  last ranges under fresh time stamps.
 
 Everything runs on the simulator's clock: drivers polled in lock-step on a SimClock give one trace
 per seed.
@@ -61,6 +64,8 @@ class SimDevices:
         odo = sim.base.odometry()
         self._odom = odo.pose if odo is not None else Pose2D()
         self.links: dict[str, Link] = {}
+        self._dropped = False          # the laser link is unplugged by a laser_dropout fault
+        self._last_ranges: np.ndarray | None = None
 
     @property
     def urls(self) -> dict[str, str]:
@@ -104,7 +109,21 @@ class SimDevices:
         if self._times[0] < sim.time - 2 * _HISTORY_S:
             k = bisect.bisect_left(self._times, sim.time - _HISTORY_S)
             del self._times[:k], self._poses[:k]
+        self._laser_dropout(sim.time)
         return ds - dth * half, ds + dth * half
+
+    def _laser_dropout(self, t: float) -> None:
+        """Unplug the laser while the simulator has a laser_dropout fault, replug after."""
+        link = self.links.get("laser")
+        if link is None:
+            return
+        down = self.sim.fault_active("laser_dropout", t) is not None
+        if down and not self._dropped:
+            link.unplug()
+            self._dropped = True
+        elif not down and self._dropped:
+            link.replug()
+            self._dropped = False
 
     # -- the laser -----------------------------------------------------------------------------
     def pose_at(self, t: float) -> Pose2D:
@@ -127,6 +146,9 @@ class SimDevices:
         n = len(angles)
         inc = float(angles[1] - angles[0]) if n > 1 else 0.0
         mid = t + 0.5 * 60.0 / GEOM.scan_rpm
+        if (self._last_ranges is not None and len(self._last_ranges) == n
+                and self.sim.fault_active("laser_frozen", mid) is not None):
+            return self._last_ranges.copy()
         lp = self.pose_at(mid).compose(self.mount)
         w = self.sim.world
         circles, segments = w.shapes_at(mid)
@@ -135,7 +157,8 @@ class SimDevices:
         scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, lp.x, lp.y,
                     lp.theta + float(angles[0]), inc, GEOM.dmax / 1000.0, circles, segments,
                     self._noise, seed, math.inf, out)
-        return out.astype(np.float64)
+        self._last_ranges = out.astype(np.float64)
+        return self._last_ranges.copy()
 
 
 def lockstep_start(drivers: dict[str, Any], clock: Any, step: float = 0.02,
