@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import hw.emulators as emu
 from hw.devices import open_devices, poll_devices
 from hw.drivers.kobuki import KobukiDriver
 from hw.drivers.urg04lx import Urg04lxDriver
