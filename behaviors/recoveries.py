@@ -476,6 +476,8 @@ class TemporaryGoal(Recovery):
         "planner_id": PortInformation(str, False, "planner for the way there", "GridBased"),
         "controller_id": PortInformation(str, False, "controller for the way there", "FollowPath"),
         "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
+        "goal": PortInformation(Pose2D, False, "navigation goal: among equally open poses, "
+                                               "those nearer to it come first"),
         "arc_first": PortInformation(bool, False,
                                      "first try poses one collision-free arc away, driven "
                                      "without the planner", True),
@@ -495,7 +497,7 @@ class TemporaryGoal(Recovery):
     OUTPUT_PORTS = {**_CMD, **_ERR,
                     "temporary_goal": PortInformation(Pose2D, False, "the pose chosen")}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "temporary_goal_error_code",
-                    "temporary_goal": "temporary_goal"}
+                    "temporary_goal": "temporary_goal", "goal": "goal"}
     CHOICES = {"costmap": ("local", "global")}
 
     def setup(self, **kwargs: Any) -> None:
@@ -530,10 +532,16 @@ class TemporaryGoal(Recovery):
         scored.sort(key=lambda t: t[:2])
         return [t[2] for t in scored]
 
+    def _to_goal(self, pose: Pose2D) -> float:
+        """Distance from ``pose`` to the navigation goal in tenths of a metre (0 without one)."""
+        goal = self.read("goal")
+        return round(pose.distance_to(goal), 1) if isinstance(goal, Pose2D) else 0.0
+
     def _arc_goal(self, pose: Pose2D) -> Pose2D | None:
         """The best pose one arc away (forwards or backwards, turning at most 90 degrees) whose
         footprint is free at the arc's end and clear all along it; None if there is none.
-        Ranked by openness at the end, then by arc length."""
+        Ranked by openness at the end (in tenths of the inscribed cost), then by the distance
+        left to the navigation goal (tenths of a metre; when one is known), then arc length."""
         handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
         ends = []
         for c in ring_candidates(pose, self.get_input("min_distance"),
@@ -546,14 +554,15 @@ class TemporaryGoal(Recovery):
             cost = int(handle.footprint_cost(end.x, end.y, end.theta)) if handle else 0
             if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
                 length = ARC_SEARCH_STEP * len(arc)
-                ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 2), length, end, arc))
-        ends.sort(key=lambda t: t[:2])
+                ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 1), self._to_goal(end),
+                             length, end, arc))
+        ends.sort(key=lambda t: t[:3])
         if self.get_input("disable_collision_checks"):
-            return ends[0][2] if ends else None
+            return ends[0][3] if ends else None
         # Of the first few clear arcs, take the one that keeps farthest from lethal cells
         # (the gentlest way out of a tight spot).
         best, best_gap, clear = None, -math.inf, 0
-        for _, _, end, arc in ends:
+        for _, _, _, end, arc in ends:
             if self.first_collision(arc, pose) is not None:
                 continue
             gaps = clearances(handle, arc) if handle is not None else None

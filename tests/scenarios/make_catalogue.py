@@ -269,9 +269,13 @@ write("doorway_oscillation", "A narrow doorway (0.8 m) straight ahead: the local
       expect:
         outcome: succeeded
         no_collision: true
-      known_issue: >
-        The robot oscillates in front of the 0.8 m door until time runs out; an oscillation-aware
-        recovery (move_base oscillation_timeout) is the fix this scenario waits for.
+      expect_by_tree:
+        # DWA turns on the spot in front of the door; turning counts as a valid command, so
+        # move_base (oscillation_timeout 0, the ROS default) never starts a recovery
+        move_base: {outcome: timeout}
+        # no progress for 5 s (the oscillation check): the goal-weighted follow drives into the
+        # door, and where DWA stops in it TemporaryGoal arcs through toward the goal
+        smach_recovery: {recoveries_fired: [TemporaryGoal]}
       """)
 
 # 15. laser drop-out
