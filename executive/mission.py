@@ -117,10 +117,12 @@ class _LockstepBase:
 
     def __init__(self, driver: Any) -> None:
         self.driver = driver
+        self.closed = False     # after close a poll would open the port again
 
     def send(self, cmd: Any) -> None:
         self.driver.send(cmd)
-        self.driver.poll()
+        if not self.closed:
+            self.driver.poll()
 
     def odometry(self) -> Any:
         return self.driver.odometry()
@@ -156,6 +158,7 @@ class EmulatedIO(HardwareIO):
         return bool(self.sim.in_collision())
 
     def close(self) -> None:
+        self.base.closed = True
         try:
             super().close()
         finally:

@@ -215,3 +215,22 @@ def test_catalogue_scenario_runs_from_the_cli(scenario_run, capsys) -> None:
     assert code == 0 and out[0]["outcome"] == "succeeded"
     assert out[0]["sim_time_s"] == round(first.sim_time, 3)
     assert out[0]["recoveries"] == first.recoveries
+
+
+def test_closing_the_emulated_robot_unplugs_it_for_good(scenario_run) -> None:
+    """After ``io.close()`` the emulators are gone from the registry and a late stop command
+    (e.g. an executive shutdown) does not open the port again."""
+    from executive.mission import World as MissionWorld
+    from executive.mission import build_mission
+    from executive.scenario import scenario_config
+    from hw.emulators import lookup
+    s, _, _ = scenario_run
+    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=MissionWorld(),
+                      seed=1, hardware="emulated")
+    io = m.executive.io
+    ident = io.bridge.ident
+    assert lookup(f"{ident}-base") is not None and io.devices["base"].connected
+    io.close()
+    m.executive.shutdown()                                  # sends a stop after the close
+    assert lookup(f"{ident}-base") is None and lookup(f"{ident}-laser") is None
+    assert not io.devices["base"].connected and not io.devices["laser"].connected
