@@ -131,6 +131,26 @@ def test_laser_dropout_unplugs_the_emulated_laser_and_the_driver_reconnects() ->
         _close(bridge, drivers)
 
 
+def test_frozen_laser_repeats_its_ranges_under_fresh_stamps() -> None:
+    clock, sim, bridge, drivers = _bench("hcl-frozen", max_vel_x=0.5)
+    laser, base = drivers["laser"], drivers["base"]
+    sim.inject("laser_frozen", start=clock.now() + 0.3, duration=1.0)
+    try:
+        scans = []
+        for _ in range(16):                                 # drive towards the far wall
+            base.send(Twist(0.4, 0.0, 0.0))
+            clock.advance(0.1)
+            poll_devices(drivers)
+            scans.append(laser.scan())
+        frozen, live = scans[5:12], scans[13:]
+        assert len({s.stamp for s in frozen}) == len(frozen)            # still streaming
+        assert all(np.array_equal(s.ranges, frozen[0].ranges) for s in frozen)
+        assert not np.array_equal(live[-1].ranges, live[0].ranges)       # moving again
+        assert laser.connects == 1 and laser.rejected == 0
+    finally:
+        _close(bridge, drivers)
+
+
 def test_simulator_without_a_laser_is_refused() -> None:
     sim = Simulator(World(ascii_map(ROOM)), {"laser": {"enabled": False}}, SimClock(),
                     np.random.default_rng(0), start=Pose2D(1.0, 1.5, 0.0))
