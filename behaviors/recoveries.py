@@ -681,14 +681,20 @@ class BackOffToPreviousPose(Recovery):
     """Drive back along the trail the robot came by to the pose visited ``distance`` metres ago.
 
     The trail is ``pose_history`` (RecordPoseHistory). It starts at the stored pose nearest the
-    robot, so repeated back-offs go further back. The robot pursues the trail in reverse (pure
-    pursuit with negative speed, ``lookahead`` m), footprint-checked ahead. SUCCESS within
+    robot, so repeated back-offs go further back. If the pose ``distance`` back still has its
+    footprint in inscribed cost (half-way out of a dead end, say), the target moves further
+    back along the trail to the first free pose, at most ``max_distance`` metres back. The
+    robot pursues the trail in reverse (pure pursuit with negative speed, ``lookahead`` m),
+    footprint-checked ahead (leaving inscribed cost is allowed). SUCCESS within
     ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT
     (``time_allowance`` spent, or no progress as in TemporaryGoal).
     """
 
     INPUT_PORTS = {
         "distance": PortInformation(float, False, "how far back along the trail, m", 0.5),
+        "max_distance": PortInformation(float, False,
+                                        "how far back at most to reach a pose free of "
+                                        "inscribed cost, m", 2.0),
         "speed": PortInformation(float, False, "m/s", 0.1),
         "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
         "lookahead": PortInformation(float, False, "pure-pursuit look-ahead, m", 0.25),
@@ -712,17 +718,24 @@ class BackOffToPreviousPose(Recovery):
         self.start_progress_check(self.robot.pose())
 
     def _plan_trail(self, pose: Pose2D, history: list[Pose2D]) -> list[Pose2D]:
-        """Poses from the one nearest the robot back ``distance`` metres, newest first."""
+        """Poses from the one nearest the robot back ``distance`` metres (or on to the first
+        pose free of inscribed cost, within ``max_distance``), newest first."""
         if not history:
             return []
         near = min(range(len(history)), key=lambda i: history[i].distance_to(pose))
-        trail, travelled, want = [], 0.0, self.get_input("distance")
+        want = self.get_input("distance")
+        limit = max(want, self.get_input("max_distance"))
+        handle = self.collision_map()
+        trail, travelled = [], 0.0
         prev = history[near]
         for p in reversed(history[:near + 1]):
             travelled += p.distance_to(prev)
+            if travelled > limit + 1e-9:
+                break
             trail.append(p)
             prev = p
-            if travelled >= want:
+            if travelled >= want and (handle is None or 0 <= int(handle.footprint_cost(
+                    p.x, p.y, p.theta)) < INSCRIBED_INFLATED_OBSTACLE):
                 break
         return trail if travelled > 0.0 else []
 

@@ -414,3 +414,22 @@ def test_tight_spot_motion_is_judged_by_the_body_not_the_grid():
     lowest = [q.y - 0.22 * math.cos(q.theta) - 0.25 * abs(math.sin(q.theta))
               for q in w.robot.trajectory]                 # the body's corner nearest the wall
     assert min(lowest) >= -0.25 - 0.003
+
+
+def test_back_off_goes_on_to_the_first_free_pose_of_the_trail():
+    # the last 0.55 m of the trail is in inscribed cost (a dead end): backing off 0.3 m would
+    # stop half-way out, so the target moves back to the first free pose (x = 0.45)
+    bay = FakeCostmap(footprint=lambda x, y, t: 253 if x > 0.45 + 1e-9 else 0)
+    rig = Rig(World(local_costmap=bay))
+    rig.put("pose_history", [Pose2D(0.05 * i, 0.0, 0.0) for i in range(21)])
+    rig.world.robot.teleport(Pose2D(1.0, 0.0, 0.0))
+    status, _ = rig.run(rig.node("BackOffToPreviousPose", distance=0.3, speed=0.15))
+    assert status == S and rig.world.robot.pose().x == pytest.approx(0.45, abs=0.08)
+    assert rig.world.robot.pose().x < 0.53
+    # no further than max_distance, even if still in inscribed cost there
+    rig2 = Rig(World(local_costmap=bay))
+    rig2.put("pose_history", [Pose2D(0.05 * i, 0.0, 0.0) for i in range(21)])
+    rig2.world.robot.teleport(Pose2D(1.0, 0.0, 0.0))
+    status, _ = rig2.run(rig2.node("BackOffToPreviousPose", distance=0.3, max_distance=0.4,
+                                   speed=0.15))
+    assert status == S and rig2.world.robot.pose().x == pytest.approx(0.6, abs=0.08)
