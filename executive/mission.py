@@ -168,22 +168,40 @@ class EmulatedIO(HardwareIO):
 def _emulated_io(config: RobotConfig, sim: Any, clock: Clock, rng: np.random.Generator,
                  ident: str) -> EmulatedIO:
     """Kobuki and URG-04LX emulators on ``sim``, their drivers opened thread-free and started
-    (connected and delivering) in lock-step. Driver ``params`` come from ``robot.devices`` when
-    it names these devices."""
+    (connected and delivering) in lock-step. When ``robot.devices`` names these devices on
+    ``sim`` ports, their driver ``params`` and URL fault options (``urg04lx://sim?corrupt=0.001``)
+    are used."""
+    from urllib.parse import parse_qs, urlsplit
+
     from hw.devices import DeviceConfigError, open_devices
+    from hw.emulators import Faults
     from hw.sim.emulated_devices import SimDevices, lockstep_start
+    noise_rng, wire_rng = rng.spawn(2)     # children: the mission's own draws stay as they are
     try:
-        bridge = SimDevices(sim, rng.spawn(1)[0], ident.strip("/"))
+        bridge = SimDevices(sim, noise_rng, ident.strip("/"))
     except ValueError as e:
         raise WiringError(f"{config.source}: {e}") from None
-    urls = bridge.plug()
-    m = bridge.mount
-    entries: dict[str, Any] = {"base": {"url": urls["base"]},
-                               "laser": {"url": urls["laser"], "mount": [m.x, m.y, m.theta]}}
+    params: dict[str, Any] = {}
+    faults: dict[str, Any] = {}
     for role, device in (("base", "kobuki"), ("laser", "urg04lx")):
         given = (config.devices or {}).get(role)
-        if isinstance(given, dict) and str(given.get("url", "")).startswith(device + "://"):
-            entries[role]["params"] = given.get("params") or {}
+        url = str(given.get("url", "")) if isinstance(given, dict) else str(given or "")
+        if not url.startswith(device + "://sim"):
+            continue
+        if isinstance(given, dict):
+            params[role] = given.get("params") or {}
+        q = {k: v[-1] for k, v in parse_qs(urlsplit(url).query).items()}
+        try:
+            faults[role] = Faults(**{k: float(v) for k, v in q.items() if k not in ("id", "seed")})
+        except (TypeError, ValueError) as e:
+            raise WiringError(f"{config.source}: robot: devices: {role}: {url}: bad fault "
+                              f"option ({e})") from None
+    urls = bridge.plug(faults, seed=int(wire_rng.integers(0, 2 ** 31)))
+    m = bridge.mount
+    entries: dict[str, Any] = {
+        "base": {"url": urls["base"], "params": params.get("base", {})},
+        "laser": {"url": urls["laser"], "params": params.get("laser", {}),
+                  "mount": [m.x, m.y, m.theta]}}
     try:
         devices = open_devices(entries, clock, lockstep=True)
         lockstep_start(devices, clock)

@@ -254,3 +254,29 @@ def test_closing_the_emulated_robot_unplugs_it_for_good(scenario_run) -> None:
     m.executive.shutdown()                                  # sends a stop after the close
     assert lookup(f"{ident}-base") is None and lookup(f"{ident}-laser") is None
     assert not io.devices["base"].connected and not io.devices["laser"].connected
+
+
+def test_scenario_through_noisy_serial_lines_from_the_config() -> None:
+    """``robot.devices`` fault options on ``sim`` ports reach the emulated wires: corrupted and
+    garbage bytes are rejected by the drivers' checks and the scenario still succeeds."""
+    from executive.mission import World as MissionWorld
+    from executive.mission import build_mission, run_mission
+    from executive.scenario import load_scenario, scenario_config
+    s = load_scenario(SCENARIO)
+    s.robot["devices"] = {"base": "kobuki://sim?corrupt=0.0002",
+                          "laser": {"url": "urg04lx://sim?corrupt=0.0002&garbage=0.05",
+                                    "params": {"cluster": 2}}}
+    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=MissionWorld(),
+                      seed=s.seed, hardware="emulated")
+    try:
+        result = run_mission(m, s.goals, s.time_limit)
+        io = m.executive.io
+        base, laser = io.devices["base"], io.devices["laser"]
+        assert result.outcome == "succeeded", result.reason
+        assert m.sim.true_pose().distance_to(s.goals[-1]) < 0.4
+        assert io.bridge.links["laser"].bytes_corrupted > 0 and laser.rejected > 0
+        assert io.bridge.links["base"].bytes_corrupted > 0 and base.rejected > 0
+        assert laser.params.cluster == 2 and len(laser.scan().ranges) == 341
+    finally:
+        m.executive.shutdown()
+        m.executive.io.close()

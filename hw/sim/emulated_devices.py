@@ -73,10 +73,17 @@ class SimDevices:
         return {"base": f"kobuki://sim?id={self.ident}-base",
                 "laser": f"urg04lx://sim?id={self.ident}-laser"}
 
-    def plug(self, faults: Faults | None = None, seed: int = 0) -> dict[str, str]:
-        """Register both emulators (with ``faults`` on both wires); returns ``urls``."""
-        self.links = {"base": emu.plug(f"{self.ident}-base", self.base, faults, seed),
-                      "laser": emu.plug(f"{self.ident}-laser", self.laser, faults, seed + 1)}
+    def plug(self, faults: dict[str, Faults] | None = None, seed: int = 0) -> dict[str, str]:
+        """Register both emulators, with fault injection per role (``{"laser": Faults(...)}``)
+        on their wires; returns ``urls``."""
+        faults = faults or {}
+        unknown = set(faults) - {"base", "laser"}
+        if unknown:
+            raise ValueError(f"SimDevices.plug: faults for unknown role(s) {sorted(unknown)}")
+        self.links = {"base": emu.plug(f"{self.ident}-base", self.base, faults.get("base"),
+                                       seed),
+                      "laser": emu.plug(f"{self.ident}-laser", self.laser, faults.get("laser"),
+                                        seed + 1)}
         return self.urls
 
     def unplug(self) -> None:
