@@ -427,11 +427,12 @@ ARC_GAP_ENOUGH = 0.1
 
 
 def arc_poses(pose: Pose2D, x: float, y: float, step: float,
-              max_turn: float = 0.5 * math.pi) -> list[Pose2D] | None:
+              max_turn: float = 0.5 * math.pi, end_only: bool = False) -> list[Pose2D] | None:
     """Poses every ``step`` metres along the circular arc a differential drive follows from
     ``pose`` to the point (x, y), forwards if the point is ahead, backwards if behind; the last
-    one is at the point with the heading the arc ends with. None when the arc would turn by
-    more than ``max_turn`` or the point is (nearly) abeam or at the robot."""
+    one is at the point with the heading the arc ends with (``end_only``: just that one). None
+    when the arc would turn by more than ``max_turn`` or the point is (nearly) abeam or at the
+    robot."""
     rel = Pose2D(x, y, 0.0).relative_to(pose)
     d2 = rel.x * rel.x + rel.y * rel.y
     turn = 2.0 * math.atan2(abs(rel.y), abs(rel.x))
@@ -442,7 +443,7 @@ def arc_poses(pose: Pose2D, x: float, y: float, step: float,
     direction = 1.0 if rel.x > 0.0 else -1.0
     n = max(1, int(math.ceil(length / step)))
     out = []
-    for j in range(1, n + 1):
+    for j in range(n if end_only else 1, n + 1):
         s = direction * length * j / n                      # signed distance along the arc
         a = k * s
         lx = math.sin(a) / k if abs(k) > 1e-9 else s
@@ -547,22 +548,24 @@ class TemporaryGoal(Recovery):
         for c in ring_candidates(pose, self.get_input("min_distance"),
                                  self.get_input("search_radius"), self.get_input("radial_step"),
                                  self.get_input("angular_samples")):
-            arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP)
-            if arc is None:
+            last = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP, end_only=True)
+            if last is None:
                 continue
-            end = arc[-1]
+            end = last[0]
             cost = int(handle.footprint_cost(end.x, end.y, end.theta)) if handle else 0
             if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
-                length = ARC_SEARCH_STEP * len(arc)
+                half = 0.5 * abs(angle_diff(end.theta, pose.theta))   # arc from its chord
+                length = pose.distance_to(end) * (half / math.sin(half) if half > 1e-9 else 1.0)
                 ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 1), self._to_goal(end),
-                             length, end, arc))
+                             round(length, 3), end, c))
         ends.sort(key=lambda t: t[:3])
         if self.get_input("disable_collision_checks"):
             return ends[0][3] if ends else None
         # Of the first few clear arcs, take the one that keeps farthest from lethal cells
         # (the gentlest way out of a tight spot).
         best, best_gap, clear = None, -math.inf, 0
-        for _, _, _, end, arc in ends:
+        for _, _, _, end, c in ends:
+            arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP) or []
             if self.first_collision(arc, pose) is not None:
                 continue
             gaps = clearances(handle, arc) if handle is not None else None
