@@ -167,11 +167,14 @@ def test_streaming_odometry_battery_events_over_sim_url(clean_registry) -> None:
 def test_streaming_on_a_pty(clean_registry) -> None:
     clock = WallClock()
     e = KobukiEmulator(clock)
-    with PtyDevice(emu.Link(e)) as dev, KobukiDriver(dev.port_name, clock) as drv:
-        assert drv.wait_connected(3.0), drv.last_error
-        drive(drv, Twist(0.1, 0.0, 0.0), 0.3)
-        assert e.speed == 100 and drv.odometry().pose.x > 0.0
-    assert e.commands[-1][1:] == (0, 0)          # closing stops the base
+    with PtyDevice(emu.Link(e)) as dev:
+        with KobukiDriver(dev.port_name, clock) as drv:
+            assert drv.wait_connected(3.0), drv.last_error
+            drive(drv, Twist(0.1, 0.0, 0.0), 0.3)
+            assert e.speed == 100 and drv.odometry().pose.x > 0.0
+        # closing stops the base; the pty hands the last bytes over asynchronously, so wait for
+        # the emulator to have read them before the device goes away (a loaded machine is slow)
+        assert wait_until(lambda: e.commands[-1][1:] == (0, 0), 3.0), e.commands[-3:]
 
 
 def step_until(drv: KobukiDriver, clock: SimClock, pred, dt: float = 0.01,
