@@ -172,6 +172,12 @@ def _lethal_box(cm: Costmap2D, x0: float, y0: float, x1: float, y1: float) -> np
     return lethal
 
 
+# The weak path / goal weights (TrajectoryPlanner's) these two scenes were tuned for: with the
+# DWA defaults (32 / 24) the robot hugs the box and its unpadded corner can clip a lethal cell
+# between two trajectory points (the footprint is checked at the points only, as in ROS).
+WEAK = {"path_distance_bias": 0.6, "goal_distance_bias": 0.8}
+
+
 def _never_touched(cm: Costmap2D, results: list) -> bool:
     return all(footprint_cost(cm.costs, cm.origin_x, cm.origin_y, cm.resolution, RECT,
                               p.x, p.y, p.theta) < 254 for p, _ in results)
@@ -180,7 +186,7 @@ def _never_touched(cm: Costmap2D, results: list) -> bool:
 def test_obstacle_on_the_plan_stops_it_short_without_touching():
     cm = Costmap2D(160, 100, 0.05, -1.0, -2.5)
     inflate(cm, _lethal_box(cm, 1.5, -0.3, 1.8, 0.2))
-    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6))
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6, **WEAK))
     path = straight_path(0.0, 0.0, 6.0, 0.0)   # the global plan runs straight through it
     pose, _, results = drive(dwa, Pose2D(), Twist(), path, 160)
     assert _never_touched(cm, results)
@@ -194,7 +200,7 @@ def test_obstacle_beside_a_detouring_plan_is_passed_without_touching():
     xs = 6.0 * t
     ys = 0.75 * np.exp(-((xs - 1.65) / 0.6) ** 2)          # a planner's bend around the box
     path = Path(np.column_stack([xs, ys, np.zeros_like(xs)]))
-    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6))
+    dwa = DWAPlanner(cm, RECT, dict(DIFF, sim_time=3.0, vth_samples=30, vx_samples=6, **WEAK))
     pose, _, results = drive(dwa, Pose2D(), Twist(), path, 300)
     assert _never_touched(cm, results)
     assert max(p.y for p, _ in results) > 0.4              # it swerved
@@ -274,6 +280,47 @@ def _mean_path_deviation(params: dict) -> float:
     dense = densify_plan(path.poses, 0.01)
     dev = [np.min(np.hypot(dense[:, 0] - p.x, dense[:, 1] - p.y)) for p, _ in results]
     return float(np.mean(dev))
+
+
+def test_path_and_goal_bias_defaults_are_dwaplanner_cfg_ones():
+    # DWAPlannerROS applies its first reconfigure call, so DWAPlanner.cfg's 32 / 24 are the
+    # effective defaults (0.6 / 0.8 are TrajectoryPlanner's)
+    p = DWAPlanner(empty_map(), RECT, DIFF).params
+    assert (p.path_distance_bias, p.goal_distance_bias, p.occdist_scale) == (32.0, 24.0, 0.01)
+
+
+def test_beside_an_obstacle_it_drives_on_instead_of_spinning_in_place():
+    """Regression: unknown_box under move_base turned on the spot near (2.3, 2.4) until the time
+    limit. With 0.6 / 0.8 a cell of progress (0.04) could never pay for the footprint entering the
+    box's inscribed band (occdist 0.01 x 253), so rotating in place, always valid, won forever."""
+    res = 0.05
+    padded = RECT + np.sign(RECT) * 0.03          # as the costmap hands it (footprint_padding)
+    world = Costmap2D(160, 80, res, 0.0, 0.0)     # 8 m x 4 m
+    lethal = np.zeros((80, 160), dtype=bool)
+    lethal[26:42, 60:72] = True                   # the box: x 3.0..3.6, y 1.3..2.1
+    inflate(world, lethal, inscribed=0.25)
+    corners = np.array([[1.8, 2.1, 0.0], [2.5, 2.45, 0.0], [3.0, 2.6, 0.0], [3.6, 2.6, 0.0],
+                        [4.2, 2.4, 0.0], [6.2, 1.7, 0.0]])
+    plan = Path(densify_plan(corners, res))       # a navfn-like plan hugging the box's top
+    window = Costmap2D(80, 80, res, 0.0, 0.0)     # the 4 m rolling window
+    dwa = DWAPlanner(window, padded, dict(DIFF, vy_samples=1, max_vel_trans=0.5, max_vel_x=0.5,
+                                          max_vel_theta=1.5, sim_granularity=0.05, vx_samples=5,
+                                          vth_samples=15, controller_frequency=10.0))
+    pose, vel = Pose2D(2.3, 2.45, -0.5), Twist(0.0, 0.0, -0.4)   # where the robot was spinning
+    poses = []
+    for _ in range(150):                          # 15 s at 10 Hz, perfect tracking
+        mx0, my0 = int(round(pose.x / res)) - 40, int(round(pose.y / res)) - 40
+        window.origin_x, window.origin_y = mx0 * res, my0 * res
+        window.costs[:] = 0
+        x0, x1, y0, y1 = max(mx0, 0), min(mx0 + 80, 160), max(my0, 0), min(my0 + 80, 80)
+        window.costs[y0 - my0:y1 - my0, x0 - mx0:x1 - mx0] = world.costs[y0:y1, x0:x1]
+        r = dwa.compute_velocity(pose, vel, plan)
+        vel = r.cmd
+        pose = pose.compose(Pose2D(vel.vx * 0.1, 0.0, vel.wz * 0.1))
+        poses.append(pose)
+    assert max(p.x for p in poses) > 4.5            # past the box, not turning on the spot
+    assert all(footprint_cost(world.costs, 0.0, 0.0, res, RECT, p.x, p.y, p.theta) < 254
+               for p in poses)
 
 
 def test_path_distance_bias_holds_the_path_and_goal_distance_bias_loosens_it():

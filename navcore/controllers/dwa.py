@@ -60,8 +60,11 @@ DWA_PARAMS = LIMITS_PARAMS + (
     Param("sim_granularity", 0.025, float, "step between trajectory points (m)", min=1e-6),
     Param("angular_sim_granularity", 0.1, float, "angular step between trajectory points (rad)",
           min=1e-6),
-    Param("path_distance_bias", 0.6, float, "weight of staying near the global path", min=0.0),
-    Param("goal_distance_bias", 0.8, float, "weight of reaching the local goal", min=0.0),
+    # DWAPlanner.cfg's 32 / 24 (applied on the first reconfigure call), not TrajectoryPlanner's
+    # 0.6 / 0.8: times the resolution, a cell of progress must be able to outweigh the obstacle
+    # term (occdist_scale x up to 252), else rotating in place beside an obstacle always wins
+    Param("path_distance_bias", 32.0, float, "weight of staying near the global path", min=0.0),
+    Param("goal_distance_bias", 24.0, float, "weight of reaching the local goal", min=0.0),
     Param("occdist_scale", 0.01, float, "weight of obstacle cost", min=0.0),
     Param("twirling_scale", 0.0, float, "weight of abs(yaw rate)", min=0.0),
     Param("stop_time_buffer", 0.2, float, "time to stop before a collision (s); unused by the DWA "
