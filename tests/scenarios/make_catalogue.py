@@ -208,9 +208,13 @@ write("rotate_blocked_near_wall", "The robot starts alongside a wall, 5 cm from 
 # 11. narrow gap that needs a longer sim_time
 g = G(60, 40)
 g.fill(30, 1, 31, 38, "#"); g.fill(30, 25, 31, 32, ".")   # gap 0.8 m, y 2.5..3.3, off the straight line
-write("narrow_gap_sim_time", "A 0.8 m gap in a wall, off the straight line to the goal. With a longer "
-      "sim_time (tuning guide 3.1.2) the local planner sees far enough ahead to line up with the "
-      "gap instead of cutting the corner.", g, """
+write("narrow_gap_sim_time", "A 0.8 m gap in a wall, off the straight line to the goal, with the "
+      "longer sim_time the tuning guide recommends for narrow passages (3.0 s; guide 3.1.2). The "
+      "guide's claim does not hold in this simulator with the planner's correct defaults: with "
+      "the default 1.7 s (and 1.0 s or 1.5 s) move_base gets through on seeds 0-2, while with "
+      "3.0 s its long arcs cut the corner toward the wall post and it gets stuck there (1 of "
+      "seeds 0-4 succeeds). The scenario now shows the recovery tree getting through where "
+      "move_base with the long sim_time does not.", g, """
       start: [1.0, 1.0, 0.0]
       goals: [[5.0, 1.0, 0.0]]
       params:
@@ -219,6 +223,9 @@ write("narrow_gap_sim_time", "A 0.8 m gap in a wall, off the straight line to th
       expect:
         outcome: succeeded
         no_collision: true
+      expect_by_tree:
+        # stuck at the wall post after cutting the corner: fails (seed 0) or times out
+        move_base: {outcome: null}
       """)
 
 # 12. tight final approach. The goal pose must fit: the earlier bay was 0.5 m deep with the goal
@@ -237,8 +244,9 @@ write("tight_final_approach", "The goal is at the end of a bay 0.8 m wide and 0.
         outcome: succeeded
         no_collision: true
       expect_by_tree:
-        # with the path weighted over the goal, DWA turns on the spot in front of the bay
-        move_base: {outcome: timeout}
+        # with DWA's correct biases (path 32, goal 24) plain move_base drives in as well; the
+        # earlier timeout here came from the 0.6 / 0.8 biases bug
+        move_base: {max_time: 20}
         # within 1.5 m of the goal both weight the goal over the path and drive straight in
         smach_recovery: {max_time: 20}
         near_goal_reconfigure: {max_time: 20}
@@ -260,22 +268,22 @@ write("doorway_bad_angle", "The robot starts hugging the wall beside a doorway, 
 # 14. doorway oscillation
 g = G(50, 40)
 g.fill(25, 1, 26, 38, "#"); g.fill(25, 16, 26, 23, ".")    # 0.8 m door
-write("doorway_oscillation", "A narrow doorway (0.8 m) straight ahead: the local planner's best "
-      "trajectory flips between the door posts and the robot can oscillate in front of it "
-      "(move_base's oscillation_timeout case).", g, """
+write("doorway_oscillation", "A narrow doorway (0.8 m) straight ahead, approached at an angle: "
+      "the situation where a local planner's best trajectory can flip between the door posts "
+      "(move_base's oscillation_timeout case). With DWA's correct defaults (path_distance_bias "
+      "32, goal_distance_bias 24) the robot does not oscillate here: both trees drive through "
+      "in about 8 s without a recovery. The turning on the spot this scenario was built for came "
+      "from the 0.6 / 0.8 biases bug. A narrower door (0.6 m, tried) does not bring the "
+      "oscillation back: neither tree gets through it. The scenario stays as a check that a "
+      "door with 18 cm to spare on either side of the 0.44 m wide body is passed cleanly.", g, """
       start: [1.0, 1.5, 0.3]
       goals: [[4.0, 2.5, 0.0]]
       time_limit: 40
       expect:
         outcome: succeeded
         no_collision: true
-      expect_by_tree:
-        # DWA turns on the spot in front of the door; turning counts as a valid command, so
-        # move_base (oscillation_timeout 0, the ROS default) never starts a recovery
-        move_base: {outcome: timeout}
-        # no progress for 5 s (the oscillation check): the goal-weighted follow drives into the
-        # door, and where DWA stops in it TemporaryGoal arcs through toward the goal
-        smach_recovery: {recoveries_fired: [TemporaryGoal]}
+        max_time: 20
+        recoveries_not_fired: [TemporaryGoal]
       """)
 
 # 15. laser drop-out
