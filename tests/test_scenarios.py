@@ -75,7 +75,7 @@ def test_recovery_tree_solves_what_move_base_solves(path):
 # stuck-robot situations where move_base gives up or runs out of time and the SMACH-style
 # recoveries get the robot unstuck (tight_final_approach and doorway_oscillation left this list
 # when DWA's biases were fixed: move_base solves them now, so the check above covers them)
-BEYOND_MOVE_BASE = ["dead_end_backoff", "rotate_blocked_near_wall", "narrow_gap_sim_time"]
+BEYOND_MOVE_BASE = ["dead_end_backoff", "rotate_blocked_near_wall"]
 
 
 @pytest.mark.parametrize("name", BEYOND_MOVE_BASE)
