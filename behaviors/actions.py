@@ -36,6 +36,23 @@ class PlanningAction(Leaf):
     def planner(self) -> Any:
         return self.planners.get(self.get_input("planner_id"))
 
+    def no_planner(self) -> Status:
+        return self.fail(PlannerError.INVALID_PLANNER, f"no planner '{self.get_input('planner_id')}'")
+
+    @staticmethod
+    def plan(planner: Any, start: Pose2D, goal: Pose2D) -> tuple[Path | None, str]:
+        """The planner's non-empty path, or None and the planner's reason."""
+        result = planner.make_plan(start, goal)
+        if not result.ok or result.path is None or len(result.path) == 0:
+            return None, result.reason or "no_path"
+        return result.path, ""
+
+    def succeed(self, path: Path) -> Status:
+        self.write("path", path)
+        self.write("error_code_id", int(PlannerError.NONE))
+        self.write("error_msg", "")
+        return Status.SUCCESS
+
     def start(self) -> Pose2D:
         if self.get_input("use_start"):
             start = self.read("start")
@@ -71,20 +88,15 @@ class ComputePathToPose(PlanningAction):
     def update(self) -> Status:
         planner = self.planner()
         if planner is None:
-            return self.fail(PlannerError.INVALID_PLANNER,
-                             f"no planner '{self.get_input('planner_id')}'")
+            return self.no_planner()
         goal = self.read("goal")
         if goal is None:
             return self.fail(PlannerError.INVALID_GOAL, "no goal on the blackboard")
-        result = planner.make_plan(self.start(), goal)
-        if not result.ok or result.path is None or len(result.path) == 0:
-            reason = result.reason or "no_path"
+        path, reason = self.plan(planner, self.start(), goal)
+        if path is None:
             return self.fail(planner_code(reason), f"planning failed: {reason}")
-        self.write("path", result.path)
-        self.write("error_code_id", int(PlannerError.NONE))
-        self.write("error_msg", "")
-        self.say(f"path of {len(result.path)} poses, {result.path.length():.2f} m")
-        return Status.SUCCESS
+        self.say(f"path of {len(path)} poses, {path.length():.2f} m")
+        return self.succeed(path)
 
 
 class ComputePathThroughPoses(PlanningAction):
@@ -99,24 +111,18 @@ class ComputePathThroughPoses(PlanningAction):
     def update(self) -> Status:
         planner = self.planner()
         if planner is None:
-            return self.fail(PlannerError.INVALID_PLANNER,
-                             f"no planner '{self.get_input('planner_id')}'")
+            return self.no_planner()
         goals = self.read("goals")
         if not goals:
             return self.fail(PlannerError.NO_VIAPOINTS_GIVEN, "no goals on the blackboard")
         legs, start = [], self.start()
         for i, goal in enumerate(goals):
-            result = planner.make_plan(start, goal)
-            if not result.ok or result.path is None or len(result.path) == 0:
-                reason = result.reason or "no_path"
+            leg, reason = self.plan(planner, start, goal)
+            if leg is None:
                 return self.fail(planner_code(reason), f"leg {i} failed: {reason}")
-            legs.append(result.path.poses if i == 0 else result.path.poses[1:])
+            legs.append(leg.poses if i == 0 else leg.poses[1:])
             start = goal
-        path = Path(np.concatenate(legs, axis=0))
-        self.write("path", path)
-        self.write("error_code_id", int(PlannerError.NONE))
-        self.write("error_msg", "")
-        return Status.SUCCESS
+        return self.succeed(Path(np.concatenate(legs, axis=0)))
 
 
 class FollowPath(Leaf):

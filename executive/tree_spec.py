@@ -7,9 +7,10 @@ writes it back out. Every ``NodeSpec`` remembers ``file:line`` so that errors po
 from __future__ import annotations
 
 import difflib
+import os
 import re
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
 
@@ -111,3 +112,17 @@ class TreeDoc:
     tree_where: dict[str, Where]
     source: str
     from_text: bool = False  # XML: literal port values are strings still to be typed
+
+    def include(self, src: str, where: Where | str, read: Callable[[str], TreeDoc]) -> None:
+        """Merge the trees of the file ``src`` (relative to this document) read with ``read``;
+        a missing file or a tree id defined twice is a TreeError naming both places."""
+        target = src if os.path.isabs(src) else os.path.join(os.path.dirname(self.source), src)
+        if not os.path.exists(target):
+            raise TreeError(f"{where}: include '{src}' not found (looked for {target})")
+        sub = read(target)
+        for tid, spec in sub.trees.items():
+            if tid in self.trees:
+                raise TreeError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
+                                f"{self.tree_where[tid]}")
+            self.trees[tid] = spec
+            self.tree_where[tid] = sub.tree_where[tid]

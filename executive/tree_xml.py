@@ -114,16 +114,7 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
             src = el.attrs.get("path") or el.attrs.get("file") or el.attrs.get("src")
             if not src:
                 raise TreeError(f"{where}: <{el.tag}> needs a 'path' attribute")
-            target = src if os.path.isabs(src) else os.path.join(os.path.dirname(file), src)
-            if not os.path.exists(target):
-                raise TreeError(f"{where}: include '{src}' not found (looked for {target})")
-            sub = read_xml(target, (*_stack, real))
-            for tid, spec in sub.trees.items():
-                if tid in doc.trees:
-                    raise TreeError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
-                                    f"{doc.tree_where[tid]}")
-                doc.trees[tid] = spec
-                doc.tree_where[tid] = sub.tree_where[tid]
+            doc.include(src, where, lambda target: read_xml(target, (*_stack, real)))
         elif el.tag == "TreeNodesModel":
             continue
         else:

@@ -145,16 +145,7 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
             raise TreeError(f"{where}: unknown top-level key '{key}'{did_you_mean(key, TOP_KEYS)}"
                             f"; expected {', '.join(TOP_KEYS)}")
     for inc, where in includes:
-        target = inc if os.path.isabs(inc) else os.path.join(os.path.dirname(file), inc)
-        if not os.path.exists(target):
-            raise TreeError(f"{where}: include '{inc}' not found (looked for {target})")
-        sub = read_yaml(target, (*_stack, real))
-        for tid, spec in sub.trees.items():
-            if tid in doc.trees:
-                raise TreeError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
-                                f"{doc.tree_where[tid]}")
-            doc.trees[tid] = spec
-            doc.tree_where[tid] = sub.tree_where[tid]
+        doc.include(inc, where, lambda target: read_yaml(target, (*_stack, real)))
     return doc
 
 
