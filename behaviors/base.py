@@ -18,14 +18,15 @@ py_trees storage is process-global, and this is what keeps two missions apart.
 from __future__ import annotations
 
 import copy
-from typing import Any, ClassVar, Iterable, Iterator
+from typing import Any, Callable, ClassVar, Iterable, Iterator
 
 import py_trees
 from py_trees.common import Status
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
 
 __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "PortInformation", "Status",
-           "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable"]
+           "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable",
+           "tick_child", "tick_observed"]
 
 _MISSING = object()
 _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds every key
@@ -33,6 +34,35 @@ _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds e
 
 class ComponentError(RuntimeError):
     """A node's ``setup`` did not receive a component it needs; the message names both."""
+
+
+# Who sees each node as it finishes its tick (py_trees visitors, a caller of the ``tick``
+# generator); None almost always, so a navbt node pays one global look-up for it.
+_observer: Callable[[py_trees.behaviour.Behaviour], None] | None = None
+
+
+def tick_child(child: py_trees.behaviour.Behaviour) -> None:
+    """Tick ``child`` once: a navbt node by a plain call (no generator per node and level),
+    any other py_trees behaviour through its ``tick`` generator."""
+    tick_now = getattr(child, "tick_now", None)  # not isinstance: an ABC check costs more
+    if tick_now is not None:
+        tick_now()
+        return
+    for node in child.tick():
+        if _observer is not None:
+            _observer(node)
+
+
+def tick_observed(root: py_trees.behaviour.Behaviour,
+                  observer: Callable[[py_trees.behaviour.Behaviour], None]) -> None:
+    """Tick ``root`` once, calling ``observer`` on every node as it finishes its tick, in the
+    order (and as often) py_trees' generators would yield it."""
+    global _observer
+    previous, _observer = _observer, observer
+    try:
+        tick_child(root)
+    finally:
+        _observer = previous
 
 
 def namespaced(namespace: str, key: str) -> str:
@@ -56,6 +86,17 @@ class NavNode(PortsMixin):
         super().__init__(name=name or type(self).__name__, **kwargs)
         self._literals: dict[str, Any] = {}
         self.namespace = "/"
+
+    # ---------------------------------------------------------------- ticking
+    def tick_now(self) -> None:
+        """Tick once (this node and whatever children it ticks); subclasses implement it."""
+        raise NotImplementedError(f"{type(self).__name__}: no tick_now")
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        """py_trees' generator API: tick once, then yield the nodes ticked, in order."""
+        ticked: list[py_trees.behaviour.Behaviour] = []
+        tick_observed(self, ticked.append)
+        yield from ticked
 
     # ---------------------------------------------------------------- wiring
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
@@ -158,27 +199,25 @@ class NavNode(PortsMixin):
         return (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
 
 
-_VALID_STATUS = frozenset(Status)
-
-
 class Leaf(NavNode, py_trees.behaviour.Behaviour):
     """Base of actions and conditions (no children).
 
-    ``tick`` and ``stop`` keep py_trees' semantics (initialise when not RUNNING, update, stop on
-    a final status) without its per-tick debug formatting, which dominated the tick cost.
+    ``tick_now`` and ``stop`` keep py_trees' semantics (initialise when not RUNNING, update, stop
+    on a final status) without its per-tick debug formatting, which dominated the tick cost.
     """
 
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        if self.status != Status.RUNNING:
+    def tick_now(self) -> None:
+        if self.status is not Status.RUNNING:
             self.initialise()
         new_status = self.update()
-        if new_status not in _VALID_STATUS:
+        if new_status.__class__ is not Status:  # no set look-up: Enum hashes in Python
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
             new_status = Status.INVALID
-        if new_status != Status.RUNNING:
+        if new_status is not Status.RUNNING:
             self.stop(new_status)
         self.status = new_status
-        yield self
+        if _observer is not None:
+            _observer(self)
 
     def stop(self, new_status: Status) -> None:
         self.terminate(new_status)
@@ -186,7 +225,8 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
 
 
 class Control(NavNode, py_trees.composites.Composite):
-    """Base of control nodes. Subclasses implement ``tick`` as a generator (py_trees idiom).
+    """Base of control nodes. Subclasses implement ``tick_now``, ticking children through
+    ``tick_child`` and ending with ``_finish``.
 
     ``MIN_CHILDREN``/``MAX_CHILDREN`` are checked by the loader (STYLE 2.5) and at construction.
     """
@@ -199,12 +239,13 @@ class Control(NavNode, py_trees.composites.Composite):
                  **kwargs: Any) -> None:
         super().__init__(name=name, children=list(children or []), **kwargs)
 
-    def _finish(self, status: Status) -> Iterable[py_trees.behaviour.Behaviour]:
+    def _finish(self, status: Status) -> None:
         """Set the final status of this tick, stopping self (and so children) when not RUNNING."""
-        if status != Status.RUNNING:
+        if status is not Status.RUNNING:
             self.stop(status)
         self.status = status
-        yield self
+        if _observer is not None:
+            _observer(self)
 
     def halt_children(self, start: int = 0) -> None:
         """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
@@ -215,12 +256,16 @@ class Control(NavNode, py_trees.composites.Composite):
     def stop(self, new_status: Status = Status.INVALID) -> None:
         # Unlike py_trees (which keeps finished children for introspection), BT.CPP halts every
         # child when a control node finishes: a later run must start them afresh.
+        # py_trees' Composite.stop less its debug formatting (a large part of a tick's cost).
         self.halt_children()
-        super().stop(new_status)
+        if new_status is Status.INVALID:
+            self.current_child = None
+        self.terminate(new_status)
+        self.status = new_status
 
 
 class DecoratorNode(NavNode, py_trees.decorators.Decorator):
-    """Base of decorators that decide *whether* to tick their child (custom ``tick``)."""
+    """Base of decorators that decide *whether* to tick their child (custom ``tick_now``)."""
 
     CATEGORY = "Decorator"
 
@@ -230,14 +275,15 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
             raise TypeError(f"{type(self).__name__} '{name}': a decorator needs a child")
         super().__init__(name=name, child=child, **kwargs)
 
-    def _finish(self, status: Status) -> Iterable[py_trees.behaviour.Behaviour]:
-        if status != Status.RUNNING:
+    def _finish(self, status: Status) -> None:
+        if status is not Status.RUNNING:
             self.stop(status)
         self.status = status
-        yield self
+        if _observer is not None:
+            _observer(self)
 
     def update(self) -> Status:
-        """Unused: these decorators decide in ``tick`` (py_trees declares it abstract)."""
+        """Unused: these decorators decide in ``tick_now`` (py_trees declares it abstract)."""
         return self.decorated.status
 
     def halt_child(self) -> None:

@@ -1,17 +1,17 @@
 """Control nodes with BehaviorTree.CPP / Nav2 semantics.
 
 py_trees' ``Sequence(memory=...)``/``Selector`` cover only part of these, so each is written out
-as a ``tick`` generator. Common rule (BT.CPP): when a control node finishes (SUCCESS or FAILURE)
+as a ``tick_now`` (see behaviors.base: plain calls, not py_trees' generators). Common rule (BT.CPP): when a control node finishes (SUCCESS or FAILURE)
 or is halted, every child is halted, so a later run starts all of them afresh.
 """
 
 from __future__ import annotations
 
-from typing import Any, ClassVar, Iterator
+from typing import Any, ClassVar
 
 import py_trees
 
-from behaviors.base import Control, PortInformation, Status
+from behaviors.base import Control, PortInformation, Status, tick_child
 
 Behaviour = py_trees.behaviour.Behaviour
 
@@ -33,24 +33,24 @@ class _InOrder(Control):
         super().__init__(*args, **kwargs)
         self._index = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if not self.MEMORY and self.status != Status.RUNNING:
             self._index = 0
         while self._index < len(self.children):
             child = self.children[self._index]
             self.current_child = child
-            yield from child.tick()
+            tick_child(child)
             if child.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
+                self._finish(Status.RUNNING)
                 return
             if child.status == self.STOP_ON:
                 if not self.MEMORY:
                     self._index = 0
-                yield from self._finish(self.STOP_ON)
+                self._finish(self.STOP_ON)
                 return
             self._index += 1
         self._index = 0
-        yield from self._finish(self.ALL_DONE)
+        self._finish(self.ALL_DONE)
 
 
 class _Reactive(Control):
@@ -64,18 +64,18 @@ class _Reactive(Control):
     STOP_ON: ClassVar[Status]
     ALL_DONE: ClassVar[Status]
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         for i, child in enumerate(self.children):
             self.current_child = child
-            yield from child.tick()
+            tick_child(child)
             if child.status == Status.RUNNING:
                 self.halt_children(i + 1)
-                yield from self._finish(Status.RUNNING)
+                self._finish(Status.RUNNING)
                 return
             if child.status == self.STOP_ON:
-                yield from self._finish(self.STOP_ON)
+                self._finish(self.STOP_ON)
                 return
-        yield from self._finish(self.ALL_DONE)
+        self._finish(self.ALL_DONE)
 
 
 class Sequence(_InOrder):
@@ -154,24 +154,24 @@ class Parallel(Control):
         n = self.get_input(port)
         return len(self.children) if n < 0 else min(n, len(self.children))
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._done: dict[int, Status] = {}
         need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
         for i, child in enumerate(self.children):
             if i in self._done:
                 continue
-            yield from child.tick()
+            tick_child(child)
             if child.status in (Status.SUCCESS, Status.FAILURE):
                 self._done[i] = child.status
         successes = sum(1 for s in self._done.values() if s == Status.SUCCESS)
         failures = len(self._done) - successes
         if successes >= need_success:
-            yield from self._finish(Status.SUCCESS)
+            self._finish(Status.SUCCESS)
         elif failures >= need_failure or len(self._done) == len(self.children):
-            yield from self._finish(Status.FAILURE)
+            self._finish(Status.FAILURE)
         else:
-            yield from self._finish(Status.RUNNING)
+            self._finish(Status.RUNNING)
 
 
 class PipelineSequence(Control):
@@ -188,22 +188,22 @@ class PipelineSequence(Control):
         super().__init__(*args, **kwargs)
         self._last = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._last = 0
         for i, child in enumerate(self.children):
             self.current_child = child
-            yield from child.tick()
+            tick_child(child)
             if child.status == Status.FAILURE:
                 self._last = 0
-                yield from self._finish(Status.FAILURE)
+                self._finish(Status.FAILURE)
                 return
             if child.status == Status.RUNNING and i >= self._last:
                 self._last = i
-                yield from self._finish(Status.RUNNING)
+                self._finish(Status.RUNNING)
                 return
         self._last = 0
-        yield from self._finish(Status.SUCCESS)
+        self._finish(Status.SUCCESS)
 
 
 class RecoveryNode(Control):
@@ -257,7 +257,7 @@ class RecoveryNode(Control):
                     new_run()
             self.say("main child recovered: recoveries start again")
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._retries, self._index = 0, 0
         limit = self.get_input("number_of_retries")
@@ -265,29 +265,29 @@ class RecoveryNode(Control):
         while True:
             if self._index == 0:
                 self.current_child = main
-                yield from main.tick()
+                tick_child(main)
                 if main.status == Status.RUNNING:
                     self._maybe_reset(recovery)
-                    yield from self._finish(Status.RUNNING)
+                    self._finish(Status.RUNNING)
                     return
                 if main.status == Status.SUCCESS:
-                    yield from self._finish(Status.SUCCESS)
+                    self._finish(Status.SUCCESS)
                     return
                 if self._retries >= limit:
                     self.say(f"main child failed after {self._retries} recoveries")
-                    yield from self._finish(Status.FAILURE)
+                    self._finish(Status.FAILURE)
                     return
                 main.stop(Status.INVALID)
                 self._index = 1
             else:
                 self.current_child = recovery
-                yield from recovery.tick()
+                tick_child(recovery)
                 if recovery.status == Status.RUNNING:
-                    yield from self._finish(Status.RUNNING)
+                    self._finish(Status.RUNNING)
                     return
                 if recovery.status == Status.FAILURE:
                     self.say(f"recovery {self._retries + 1} failed")
-                    yield from self._finish(Status.FAILURE)
+                    self._finish(Status.FAILURE)
                     return
                 recovery.stop(Status.INVALID)
                 self._retries += 1
@@ -321,20 +321,20 @@ class RoundRobin(Control):
         self._index = 0
         self._failed = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         n = len(self.children)
         wrap = self.get_input("wrap_around")
         if self._index >= n:  # the last child succeeded last time and there is no wrap
             self._index, self._failed = 0, 0
             self.say("every child attempted")
-            yield from self._finish(Status.FAILURE)
+            self._finish(Status.FAILURE)
             return
         while self._failed < n:
             child = self.children[self._index]
             self.current_child = child
-            yield from child.tick()
+            tick_child(child)
             if child.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
+                self._finish(Status.RUNNING)
                 return
             self._index += 1
             exhausted = self._index == n
@@ -342,7 +342,7 @@ class RoundRobin(Control):
                 self._index = 0
             if child.status == Status.SUCCESS:
                 self._failed = 0
-                yield from self._finish(Status.SUCCESS)
+                self._finish(Status.SUCCESS)
                 return
             self._failed += 1
             if exhausted and not wrap:
@@ -350,7 +350,7 @@ class RoundRobin(Control):
         self._failed = 0
         self._index = self._index % n if wrap else 0
         self.say("every child attempted")
-        yield from self._finish(Status.FAILURE)
+        self._finish(Status.FAILURE)
 
     def terminate(self, new_status: Status) -> None:
         # Interrupted while running (goal change, parent halted): forget the position.
@@ -378,23 +378,23 @@ class IfThenElse(Control):
         super().__init__(*args, **kwargs)
         self._branch = 0
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._branch = 0
         if self._branch == 0:
             cond = self.children[0]
-            yield from cond.tick()
+            tick_child(cond)
             if cond.status == Status.RUNNING:
-                yield from self._finish(Status.RUNNING)
+                self._finish(Status.RUNNING)
                 return
             if cond.status == Status.SUCCESS:
                 self._branch = 1
             elif len(self.children) == 3:
                 self._branch = 2
             else:
-                yield from self._finish(Status.FAILURE)
+                self._finish(Status.FAILURE)
                 return
         branch = self.children[self._branch]
         self.current_child = branch
-        yield from branch.tick()
-        yield from self._finish(branch.status)
+        tick_child(branch)
+        self._finish(branch.status)

@@ -7,11 +7,11 @@ clock, so Timeout, Delay and RateController run in simulated time.
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar, Iterator
+from typing import Any, ClassVar
 
 import py_trees
 
-from behaviors.base import DecoratorNode, PortInformation, Status
+from behaviors.base import DecoratorNode, PortInformation, Status, tick_child
 from navcore.types import Pose2D
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -26,9 +26,9 @@ class _Passthrough(DecoratorNode):
     def convert(self, status: Status) -> Status:
         raise NotImplementedError
 
-    def tick(self) -> Iterator[Behaviour]:
-        yield from self.decorated.tick()
-        yield from self._finish(self.convert(self.decorated.status))
+    def tick_now(self) -> None:
+        tick_child(self.decorated)
+        self._finish(self.convert(self.decorated.status))
 
 
 class Inverter(_Passthrough):
@@ -71,10 +71,10 @@ class _Rerun(DecoratorNode):
     LIMIT_PORT: ClassVar[str]
     FEEDBACK: ClassVar[str]  # said at each counted run: {n} runs so far, {limit}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._count = 0
-        yield from self.decorated.tick()
+        tick_child(self.decorated)
         status = self.decorated.status
         if status == self.RERUN_ON:
             self._count += 1
@@ -83,7 +83,7 @@ class _Rerun(DecoratorNode):
             if limit < 0 or self._count < limit:
                 self.decorated.stop(Status.INVALID)
                 status = Status.RUNNING
-        yield from self._finish(status)
+        self._finish(status)
 
 
 class RetryUntilSuccessful(_Rerun):
@@ -118,13 +118,13 @@ class KeepRunningUntilFailure(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
-        yield from self.decorated.tick()
+    def tick_now(self) -> None:
+        tick_child(self.decorated)
         status = self.decorated.status
         if status == Status.SUCCESS:
             self.decorated.stop(Status.INVALID)
             status = Status.RUNNING
-        yield from self._finish(status)
+        self._finish(status)
 
 
 class _Timed(DecoratorNode):
@@ -146,16 +146,16 @@ class Timeout(_Timed):
     INPUT_PORTS = {"msec": PortInformation(int, True, "time allowed, ms")}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         now = self.clock.now()
         if self.status != Status.RUNNING:
             self._deadline = now + self.get_input("msec") / 1000.0
         if now >= self._deadline:
             self.say("timed out")
-            yield from self._finish(Status.FAILURE)
+            self._finish(Status.FAILURE)
             return
-        yield from self.decorated.tick()
-        yield from self._finish(self.decorated.status)
+        tick_child(self.decorated)
+        self._finish(self.decorated.status)
 
 
 class Delay(_Timed):
@@ -164,16 +164,16 @@ class Delay(_Timed):
     INPUT_PORTS = {"delay_msec": PortInformation(int, True, "delay before the child runs, ms")}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         now = self.clock.now()
         if self.status != Status.RUNNING:
             self._start_at = now + self.get_input("delay_msec") / 1000.0
         if now < self._start_at:
             self.say(f"waiting {self._start_at - now:.2f} s")
-            yield from self._finish(Status.RUNNING)
+            self._finish(Status.RUNNING)
             return
-        yield from self.decorated.tick()
-        yield from self._finish(self.decorated.status)
+        tick_child(self.decorated)
+        self._finish(self.decorated.status)
 
 
 class RateController(_Timed):
@@ -187,7 +187,7 @@ class RateController(_Timed):
     INPUT_PORTS = {"hz": PortInformation(float, False, "rate, Hz; 0 = once per run", 10.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         now = self.clock.now()
         hz = self.get_input("hz")
         if self.status == Status.INVALID:
@@ -195,11 +195,11 @@ class RateController(_Timed):
             self._last_status = Status.INVALID
         due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
         if (self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due):
-            yield from self.decorated.tick()
+            tick_child(self.decorated)
             self._last_status = self.decorated.status
             if self._last_status == Status.SUCCESS:
                 self._last_ok = now
-        yield from self._finish(self._last_status)
+        self._finish(self._last_status)
 
 
 class _UsesRobot(DecoratorNode):
@@ -221,18 +221,18 @@ class DistanceController(_UsesRobot):
     INPUT_PORTS = {"distance": PortInformation(float, False, "travel between ticks, m", 1.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         pose = self.robot.pose()
         if self.status == Status.INVALID:
             self._last_status = Status.INVALID
             self._anchor = pose
         far = pose.distance_to(self._anchor) >= self.get_input("distance")
         if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or far:
-            yield from self.decorated.tick()
+            tick_child(self.decorated)
             self._last_status = self.decorated.status
             if self._last_status == Status.SUCCESS:
                 self._anchor = pose
-        yield from self._finish(self._last_status)
+        self._finish(self._last_status)
 
 
 class SpeedController(_UsesRobot):
@@ -256,7 +256,7 @@ class SpeedController(_UsesRobot):
         f = 0.0 if hi <= lo else min(1.0, max(0.0, (speed - lo) / (hi - lo)))
         return r0 + (r1 - r0) * f
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         now = self.clock.now()
         v = self.robot.velocity()
         rate = self.rate(math.hypot(v.vx, v.vy))
@@ -264,11 +264,11 @@ class SpeedController(_UsesRobot):
             self._last_status, self._last_ok = Status.INVALID, -math.inf
         due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
         if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due:
-            yield from self.decorated.tick()
+            tick_child(self.decorated)
             self._last_status = self.decorated.status
             if self._last_status == Status.SUCCESS:
                 self._last_ok = now
-        yield from self._finish(self._last_status)
+        self._finish(self._last_status)
 
 
 class SingleTrigger(DecoratorNode):
@@ -280,16 +280,16 @@ class SingleTrigger(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status == Status.INVALID:
             self._fired = False
         if self._fired and self.decorated.status != Status.RUNNING:
-            yield from self._finish(Status.FAILURE)
+            self._finish(Status.FAILURE)
             return
-        yield from self.decorated.tick()
+        tick_child(self.decorated)
         if self.decorated.status != Status.RUNNING:
             self._fired = True
-        yield from self._finish(self.decorated.status)
+        self._finish(self.decorated.status)
 
 
 class GoalUpdater(DecoratorNode):
@@ -306,13 +306,13 @@ class GoalUpdater(DecoratorNode):
     OUTPUT_PORTS = {"output_goal": PortInformation(Pose2D, True, "goal the subtree should use")}
     DEFAULT_KEYS = {"input_goal": "goal", "goal_update": "goal_update", "output_goal": "goal"}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         update = self.read("goal_update")
         goal = update if update is not None else self.read("input_goal")
         if goal is not None:
             self.write("output_goal", goal)
-        yield from self.decorated.tick()
-        yield from self._finish(self.decorated.status)
+        tick_child(self.decorated)
+        self._finish(self.decorated.status)
 
 
 class GoalUpdatedController(DecoratorNode):
@@ -327,7 +327,7 @@ class GoalUpdatedController(DecoratorNode):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     DEFAULT_KEYS = {"goal": "goal"}
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         goal = self.read("goal")
         if self.status == Status.INVALID:
             self._last_status, self._goal = Status.INVALID, goal
@@ -336,6 +336,6 @@ class GoalUpdatedController(DecoratorNode):
         if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or changed:
             if changed and self.decorated.status == Status.RUNNING:
                 self.halt_child()  # restart the child for the new goal
-            yield from self.decorated.tick()
+            tick_child(self.decorated)
             self._last_status = self.decorated.status
-        yield from self._finish(self._last_status)
+        self._finish(self._last_status)

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Any, Iterator
+from typing import Any
 
 import py_trees
 
 from behaviors.actions import ComputePathToPose, FollowPath
-from behaviors.base import Control, PortInformation, namespaced
+from behaviors.base import Control, PortInformation, namespaced, tick_child
 from behaviors.controls import PipelineSequence
 from behaviors.decorators import RateController
 from navcore.types import Pose2D
@@ -55,6 +55,6 @@ class NavigateToPose(Control):
                           {"controller_id": self.get_input("controller_id")})
         self._pipe.wire(namespace)
 
-    def tick(self) -> Iterator[Behaviour]:
-        yield from self._pipe.tick()
-        yield from self._finish(self._pipe.status)
+    def tick_now(self) -> None:
+        tick_child(self._pipe)
+        self._finish(self._pipe.status)

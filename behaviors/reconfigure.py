@@ -3,12 +3,12 @@ lower ``path_distance_bias`` near the goal)."""
 
 from __future__ import annotations
 
-from typing import Any, Iterator
+from typing import Any
 
 import py_trees
 import yaml
 
-from behaviors.base import DecoratorNode, PortInformation, Status
+from behaviors.base import DecoratorNode, PortInformation, Status, tick_child
 from behaviors.error_codes import BehaviorError
 from navcore.params import ParameterError
 
@@ -62,7 +62,7 @@ class SetParameters(DecoratorNode):
         self.say(f"{ns}: set {self.get_input('values')}")
         return ""
 
-    def tick(self) -> Iterator[Behaviour]:
+    def tick_now(self) -> None:
         if self.status != Status.RUNNING:
             self._put_back()
             problem = self._apply()
@@ -70,10 +70,10 @@ class SetParameters(DecoratorNode):
                 self.write("error_msg", problem)
                 self.say(problem)
                 if self.get_input("required"):
-                    yield from self._finish(Status.FAILURE)
+                    self._finish(Status.FAILURE)
                     return
-        yield from self.decorated.tick()
-        yield from self._finish(self.decorated.status)
+        tick_child(self.decorated)
+        self._finish(self.decorated.status)
 
     def _put_back(self) -> None:
         if self._restore is not None:

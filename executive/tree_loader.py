@@ -20,7 +20,7 @@ from typing import Any
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviors.base import namespaced, node_classes
+from behaviors.base import namespaced, node_classes, tick_child, tick_observed
 from executive.tree_build import Builder
 from executive.tree_spec import TreeDoc, TreeError
 from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
@@ -116,7 +116,8 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
     """py_trees' tree manager without its second whole-tree walk when no visitor needs it.
 
     ``BehaviourTree.tick`` iterates every node after the tick for "full" visitors even when
-    there are none; at 20 Hz that walk is a large part of the tick overhead.
+    there are none; at 20 Hz that walk is a large part of the tick overhead. navbt nodes tick
+    by plain calls (behaviors.base.tick_child); visitors still see each node as it finishes.
     """
 
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
@@ -130,12 +131,12 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
         for visitor in visitors:
             visitor.initialise()
         if visitors:
-            for node in self.root.tick():
+            def visit(node: py_trees.behaviour.Behaviour) -> None:
                 for visitor in visitors:
                     node.visit(visitor)
+            tick_observed(self.root, visit)
         else:
-            for _ in self.root.tick():
-                pass
+            tick_child(self.root)
         for visitor in visitors:
             visitor.finalise()
         for handler in self.post_tick_handlers:
