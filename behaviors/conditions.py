@@ -10,6 +10,7 @@ import math
 from typing import Any
 
 import numpy as np
+from numba import njit
 
 from behaviors.base import Leaf, PortInformation, Status
 from behaviors.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
@@ -291,11 +292,26 @@ def remaining_length(path: Path, pose: Pose2D, to_go: np.ndarray | None = None) 
     ``length_to_go(path.poses)`` when the caller keeps it)."""
     if len(path) == 0:
         return 0.0
-    d = np.hypot(path.poses[:, 0] - pose.x, path.poses[:, 1] - pose.y)
-    i = int(np.argmin(d))
     if to_go is None:
         to_go = length_to_go(path.poses)
-    return float(d[i] + to_go[i])
+    return float(_closest_remaining(path.poses, float(pose.x), float(pose.y), to_go))
+
+
+@njit(cache=True)
+def _closest_remaining(poses: np.ndarray, x: float, y: float, to_go: np.ndarray) -> float:
+    """Distance to the closest pose plus ``to_go`` from it (the first closest, as np.argmin;
+    a NaN distance wins, as there). Checked every tick, so one pass without temporaries."""
+    best, best_d = 0, math.inf
+    for i in range(poses.shape[0]):
+        d = math.hypot(poses[i, 0] - x, poses[i, 1] - y)
+        if d != d:
+            return d + to_go[i]
+        if d < best_d:
+            best, best_d = i, d
+    if best_d == math.inf:  # every distance infinite: np.argmin takes the first
+        best = 0
+        best_d = math.hypot(poses[0, 0] - x, poses[0, 1] - y)
+    return best_d + to_go[best]
 
 
 class IsGoalNearby(Condition):
