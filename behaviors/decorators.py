@@ -38,7 +38,9 @@ class Inverter(_Passthrough):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def convert(self, status: Status) -> Status:
-        return {Status.SUCCESS: Status.FAILURE, Status.FAILURE: Status.SUCCESS}.get(status, status)
+        if status is Status.SUCCESS:  # comparisons, not a dict: Enum hashes in Python
+            return Status.FAILURE
+        return Status.SUCCESS if status is Status.FAILURE else status
 
 
 class ForceSuccess(_Passthrough):

@@ -194,19 +194,27 @@ class Executive:
 
     def _guarded(self, node: py_trees.behaviour.Behaviour, method: str,
                  original: Callable[[], Any]) -> Callable[[], Any]:
-        def call() -> Any:
-            if method == "update" and id(node) in self._failed_nodes:
-                self._failed_nodes.discard(id(node))
+        failed = self._failed_nodes
+        if method == "initialise":
+            def initialise() -> Any:
+                try:
+                    return original()
+                except Exception as e:  # noqa: BLE001 - a node's bug must not kill the loop
+                    self._error(node, method, e)
+                    failed.add(id(node))
+                    return None
+            return initialise
+
+        def update() -> Any:
+            if failed and id(node) in failed:  # its initialise raised: fail this tick
+                failed.discard(id(node))
                 return Status.FAILURE
             try:
                 return original()
-            except Exception as e:  # noqa: BLE001 - a node's bug must not kill the loop
+            except Exception as e:  # noqa: BLE001
                 self._error(node, method, e)
-                if method == "initialise":
-                    self._failed_nodes.add(id(node))
-                    return None
                 return Status.FAILURE
-        return call
+        return update
 
     def _noting_recovery(self, node: py_trees.behaviour.Behaviour,
                          init: Callable[[], Any]) -> Callable[[], Any]:
@@ -338,7 +346,7 @@ class Executive:
             overrun = 1000.0 * elapsed
             self.trace.overruns += 1
         self.recorder.record(self.tick_count, now, pose, cmd, bb, self._events, overrun,
-                             self.tree.root.status.name)
+                             self.tree.root.status)
         self._events = []
         self.tick_count += 1
         self.clock.sleep_until(now + self.period)

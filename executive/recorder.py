@@ -144,25 +144,23 @@ class Recorder:
         return -1
 
     def status_changes(self) -> dict[str, str]:
-        out: dict[str, str] = {}
+        statuses = [node.status for node in self._nodes]
         last = self._last_status
-        for i, node in enumerate(self._nodes):
-            s = node.status
-            if s is not last[i]:
-                last[i] = s
-                out[str(i)] = s.name
-        return out
+        if statuses == last:  # the usual tick: one C-level comparison, members by identity
+            return {}
+        self._last_status = statuses
+        return {str(i): s.name for i, (s, old) in enumerate(zip(statuses, last)) if s is not old}
 
     def record(self, tick: int, t: float, pose: Pose2D | None, cmd: Twist,
                bb: dict[str, Any], events: list[dict[str, Any]], overrun_ms: float | None,
-               root_status: str) -> dict[str, Any] | None:
+               root_status: py_trees.common.Status) -> dict[str, Any] | None:
         """Build (and write) one tick line; returns it (None without a stream: nothing to
         serialise, only the status bookkeeping is kept)."""
         status = self.status_changes()
         self.ticks += 1
         if self.stream is None:
             return None
-        line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status}
+        line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status.name}
         if status:
             line["status"] = status
         if bb:

@@ -35,6 +35,9 @@ class _Snapshot:
         self.__dict__ = values
 
 
+_STOP = Twist.zero()  # immutable: one instance serves every stop
+
+
 class SafetyGate:
     """Velocity limits, stale-sensor and stall watchdogs. Any fault sends zero velocity."""
 
@@ -53,10 +56,11 @@ class SafetyGate:
         p = _Snapshot(self.params.as_dict())  # one dict copy instead of a dozen lookups
         if cmd is None:
             self._stall_since = None
-            return GateResult(Twist.zero())
+            return GateResult(_STOP)
         faults: list[str] = []
         values = (cmd.vx, cmd.vy, cmd.wz)
-        if not all(math.isfinite(v) for v in values):
+        isfinite = math.isfinite
+        if not (isfinite(values[0]) and isfinite(values[1]) and isfinite(values[2])):
             faults.append("non_finite_command")
         if odom_stamp is None or now - odom_stamp > p.sensor_timeout:
             faults.append("stale_odometry")
@@ -64,7 +68,7 @@ class SafetyGate:
             faults.append("stale_laser")
         if faults:
             self._stall_since = None
-            return GateResult(Twist.zero(), faults)
+            return GateResult(_STOP, faults)
 
         vx = min(max(cmd.vx, p.min_vel_x), p.max_vel_x)
         vy = min(max(cmd.vy, -p.max_vel_y), p.max_vel_y)
@@ -84,10 +88,11 @@ class SafetyGate:
             elif now - self._stall_since >= p.stall_timeout:
                 # Stop for this period and re-arm, so a recovery gets its own chance to move.
                 self._stall_since = None
-                return GateResult(Twist.zero(), faults + ["stall"], clipped)
+                return GateResult(_STOP, faults + ["stall"], clipped)
         else:
             self._stall_since = None
         if faults:
-            return GateResult(Twist(vx, vy, wz) if vx or vy or wz else Twist.zero(), faults,
-                              clipped)
-        return GateResult(Twist(vx, vy, wz), [], clipped)
+            return GateResult(Twist(vx, vy, wz) if vx or vy or wz else _STOP, faults, clipped)
+        if vx is cmd.vx and vy is cmd.vy and wz is cmd.wz:  # min/max kept every value: reuse
+            return GateResult(cmd, faults, clipped)
+        return GateResult(Twist(vx, vy, wz), faults, clipped)
