@@ -1,13 +1,16 @@
 """Inflation: costmap_2d's decaying cost around lethal cells, from an exact Euclidean distance.
 
 costmap_2d's InflationLayer spreads costs with a priority-queue brushfire that approximates the
-distance to the nearest lethal cell. Like Nav2's newest inflation layer we compute the exact
-distance instead (Felzenszwalb-Huttenlocher lower envelope of parabolas, separable: a column pass
-then a row pass) and map squared cell distance to cost through a lookup table built with the
-costmap_2d formula. Distances are only needed up to the inflation radius: the column pass is
-capped there (so its scratch fits in uint8), the row pass builds the envelope only from cells
-near an obstacle and skips the stretches of a row that no obstacle reaches. Cells farther than
-the radius keep their cost, exactly as costmap_2d leaves them unvisited.
+distance to the nearest lethal cell. We compute the exact distance instead (as Nav2's newest
+inflation layer does), separably, and map squared cell distance to cost through a lookup table
+built with the costmap_2d formula. Costs only depend on distances up to the inflation radius r
+(in cells), so a transform truncated there is enough (proof at ``_inflate_kernel``): a column
+pass of vertical distances capped at r + 1, then per row d^2(x) = min over |dx| <= r of
+g(x + dx)^2 + dx^2. Both passes go row after row over contiguous memory in the narrowest integer
+type that holds the numbers (uint8 at the usual radii), so numba vectorises them. For large radii
+the row pass uses the lower envelope of parabolas instead (Felzenszwalb-Huttenlocher), which
+costs O(1) per cell whatever r. Cells farther than the radius keep their cost, exactly as
+costmap_2d leaves them unvisited.
 """
 
 from __future__ import annotations
@@ -57,117 +60,184 @@ def cost_table(resolution: float, inscribed_radius: float, inflation_radius: flo
 
 
 @njit(cache=True, nogil=True)
-def _column_pass(costs: np.ndarray, g: np.ndarray, sx0: int, sy0: int, sxn: int, syn: int,
-                 cap: int) -> None:
-    """g[j - sy0, i - sx0] = vertical cell distance to the nearest lethal cell, capped at ``cap``.
-
-    Two row-by-row sweeps (down then up) so that memory is read in order.
-    """
+def _column_pass_down(costs: np.ndarray, g: np.ndarray, sx0: int, sy0: int, sxn: int, syn: int,
+                      cap: int) -> None:
+    """g[j - sy0, i - sx0] = cell distance up to the nearest lethal cell at or above row j in
+    column i, capped at ``cap``. Row after row, so every step is a contiguous vector operation."""
+    t = g.dtype.type
     w = sxn - sx0
+    c = t(cap)
+    zero = t(0)
+    one = t(1)
     row = costs[sy0, sx0:sxn]
     gj = g[0]
     for i in range(w):
-        gj[i] = 0 if row[i] == LETHAL_OBSTACLE else cap
+        gj[i] = zero if row[i] == LETHAL_OBSTACLE else c
     for j in range(1, syn - sy0):
         row = costs[sy0 + j, sx0:sxn]
         gp = g[j - 1]
         gj = g[j]
         for i in range(w):
-            if row[i] == LETHAL_OBSTACLE:
-                gj[i] = 0
-            else:
-                v = gp[i] + 1
-                gj[i] = v if v < cap else cap
-    for j in range(syn - sy0 - 2, -1, -1):
+            v = min(t(gp[i] + one), c)  # (t's arithmetic: g's type holds cap + 1)
+            gj[i] = zero if row[i] == LETHAL_OBSTACLE else v
+
+
+@njit(cache=True, nogil=True)
+def _finish_row(g: np.ndarray, j: int, rows: int, w: int, r: int, pad: np.ndarray) -> None:
+    """The up sweep for row j (from the finished row j + 1 below it), and the row's squared
+    column distances into ``pad[r:r + w]``, clamped at r^2 + 1 ("out of reach")."""
+    gj = g[j]
+    one = g.dtype.type(1)
+    if j + 1 < rows:
         gn = g[j + 1]
-        gj = g[j]
         for i in range(w):
-            v = gn[i] + 1
-            if v < gj[i]:
-                gj[i] = v
+            gj[i] = min(gj[i], g.dtype.type(gn[i] + one))
+    # narrow arithmetic so that it vectorises: the row type holds (r + 1)^2 (see _row_type)
+    t = pad.dtype.type
+    beyond = t(r * r + 1)
+    sq = pad[r:r + w]
+    for i in range(w):
+        gi = t(gj[i])
+        sq[i] = min(t(gi * gi), beyond)
+
+
+@njit(cache=True, nogil=True)
+def _row_pass_window(pad: np.ndarray, ox: int, nx: int, r: int, d2: np.ndarray) -> None:
+    """d2[x] = min over |dx| <= r of pad[r + ox + x + dx] + dx^2.
+
+    ``pad`` holds a row's clamped squared column distances with r out-of-reach cells on either
+    side, so every tap is a contiguous, branch-free pass; the taps +dx and -dx share one. Sums
+    stay below 2 r^2 + 2, so the buffers' type can be as narrow as uint8 for the usual radii
+    (32 cells per instruction).
+    """
+    t = pad.dtype.type
+    base = ox + r
+    mid = pad[base:base + nx]
+    for x in range(nx):
+        d2[x] = mid[x]
+    for dx in range(1, r + 1):
+        c = np.int64(dx * dx)
+        left = pad[base - dx:base - dx + nx]
+        right = pad[base + dx:base + dx + nx]
+        for x in range(nx):
+            d2[x] = min(d2[x], t(min(left[x], right[x]) + c))
+
+
+@njit(cache=True, nogil=True)
+def _row_pass_envelope(pad: np.ndarray, ox: int, nx: int, r: int, v: np.ndarray,
+                       fv: np.ndarray, z: np.ndarray, d2: np.ndarray) -> None:
+    """What ``_row_pass_window`` computes wherever it is at most r^2 (elsewhere only "beyond r^2"
+    is guaranteed), in O(width) whatever the radius: the lower envelope of the parabolas
+    (x - q)^2 + g[q]^2 of the sites q closer than the cap (Felzenszwalb-Huttenlocher); farther
+    sites cannot give a distance within the radius."""
+    beyond = r * r + 1
+    w = pad.shape[0] - 2 * r
+    k = -1
+    for q in range(w):
+        fq = np.int64(pad[r + q])
+        if fq >= beyond:
+            continue
+        if k < 0:
+            k = 0
+            v[0] = q
+            fv[0] = fq
+            z[0] = -1e300
+            z[1] = 1e300
+            continue
+        while True:
+            p = v[k]
+            s = ((fq + q * q) - (fv[k] + p * p)) / (2.0 * (q - p))
+            if s <= z[k]:
+                k -= 1
+            else:
+                break
+        k += 1
+        v[k] = q
+        fv[k] = fq
+        z[k] = s
+        z[k + 1] = 1e300
+    if k < 0:
+        for x in range(nx):
+            d2[x] = beyond
+        return
+    j = 0
+    for x in range(nx):
+        xo = x + ox
+        while z[j + 1] < xo:
+            j += 1
+        dx = xo - v[j]
+        d2[x] = min(dx * dx + fv[j], beyond)
+
+
+# Up to this cell radius the row pass takes the 2r + 1 taps of ``_row_pass_window`` (vector
+# operations, no branches); from it on, the envelope's O(1) per cell wins (measured on the
+# bench's office maps, see bench/bench_costmap.py --radii).
+ENVELOPE_FROM_RADIUS = 40
+
+
+def _row_type(r: int) -> type:
+    """The row buffers' dtype for cell radius r: the narrowest that holds 2 r^2 + 1."""
+    if 2 * r * r + 1 <= 255:
+        return np.uint8
+    if 2 * r * r + 1 <= 65535:
+        return np.uint16
+    return np.int32
 
 
 @njit(cache=True, nogil=True)
 def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
-                    sxn: int, syn: int, table: np.ndarray, r: int, inflate_unknown: bool,
-                    g: np.ndarray) -> None:
+                    sxn: int, syn: int, known: np.ndarray, unknown: np.ndarray, r: int,
+                    g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
     """Write inflated costs into ``costs`` over [x0, xn) x [y0, yn), from the lethal cells of the
-    source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius).
+    source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius r).
 
-    ``g`` is a scratch of at least the source window's shape (uint8 when the cap fits).
+    Why distances capped at r + 1 are enough: with G the exact vertical distance, the squared
+    distance is D(x) = min over q of (x - q)^2 + G(q)^2. The row pass computes
+    E(x) = min over |x - q| <= r of (x - q)^2 + g(q)^2 with g = min(G, r + 1). Each of its terms
+    is either a term of D (g = G) or at least (r + 1)^2 (g = r + 1), so E >= min(D, (r + 1)^2).
+    If D <= r^2, its best site q* has |x - q*| <= r and G(q*) <= r, so g(q*) = G(q*), the term
+    is in E's range and E <= D: E = D. If D > r^2, E > r^2 too. So E is exact wherever a cost is
+    due, and beyond the radius both say "out of reach". Lethal cells outside the source window
+    are more than r away from the update window in x or y, so they never matter.
+
+    ``known[d2]`` is the cost at squared distance d2 <= r^2; ``unknown[d2]`` is what an unknown
+    cell becomes (NO_INFORMATION when it stays unknown). ``g`` is a scratch of at least the
+    source window's shape; ``pad`` and ``d2`` are row scratch of the dtype ``_row_type`` gives.
+    Squared distances are clamped at r^2 + 1: that changes no value up to r^2 and keeps larger
+    ones larger.
     """
     cap = r + 1
     r2 = r * r
-    _column_pass(costs, g, sx0, sy0, sxn, syn, cap)
+    _column_pass_down(costs, g, sx0, sy0, sxn, syn, cap)
     w = sxn - sx0
-    v = np.empty(w, dtype=np.int64)        # envelope sites (column offsets)
-    fv = np.empty(w, dtype=np.int64)       # their squared vertical distances
-    z = np.empty(w + 1, dtype=np.float64)  # envelope breakpoints
-    for y in range(y0, yn):
-        gr = g[y - sy0]
-        # lower envelope of the parabolas (x - q)^2 + g[q]^2, only from sites closer than the
-        # cap: farther ones cannot give a distance within the radius
-        k = -1
-        for q in range(w):
-            gq = np.int64(gr[q])
-            if gq >= cap:
-                continue
-            fq = gq * gq
-            if k < 0:
-                k = 0
-                v[0] = q
-                fv[0] = fq
-                z[0] = -1e300
-                z[1] = 1e300
-                continue
-            while True:
-                p = v[k]
-                s = ((fq + q * q) - (fv[k] + p * p)) / (2.0 * (q - p))
-                if s <= z[k]:
-                    k -= 1
-                else:
-                    break
-            k += 1
-            v[k] = q
-            fv[k] = fq
-            z[k] = s
-            z[k + 1] = 1e300
-        if k < 0:
+    rows = syn - sy0
+    far = pad.dtype.type(r2 + 1)
+    for i in range(r):
+        pad[i] = far
+        pad[r + w + i] = far
+    padw = pad[:w + 2 * r]
+    ox = x0 - sx0
+    nx = xn - x0
+    envelope = r >= ENVELOPE_FROM_RADIUS
+    if envelope:
+        v = np.empty(w, dtype=np.int64)
+        fv = np.empty(w, dtype=np.int64)
+        z = np.empty(w + 1, dtype=np.float64)
+    for y in range(syn - 1, y0 - 1, -1):
+        j = y - sy0
+        _finish_row(g, j, rows, w, r, pad)  # the up sweep, row by row, while in cache
+        if y >= yn:
             continue
-        row = costs[y]
-        j = 0
-        lo = max(x0, sx0 + v[0] - r)
-        hi = min(xn, sx0 + v[k] + r + 1)
-        x = lo
-        while x < hi:
-            xo = x - sx0
-            while z[j + 1] < xo:
-                j += 1
-            dx = xo - v[j]
-            d2 = dx * dx + fv[j]
-            if d2 > r2:
-                # beyond the radius of every site; if even the horizontal distance to the
-                # nearest site is, skip to where the next site comes within the radius
-                if dx > r:
-                    if j == k:
-                        break
-                    x = max(x + 1, sx0 + v[j + 1] - r)
-                elif dx < -r:
-                    x = max(x + 1, sx0 + v[j] - r)
-                else:
-                    x += 1
-                continue
-            cost = table[d2]
-            old = row[x]
-            if old == NO_INFORMATION:
-                if inflate_unknown:
-                    if cost > FREE_SPACE:
-                        row[x] = cost
-                elif cost >= INSCRIBED_INFLATED_OBSTACLE:
-                    row[x] = cost
-            elif cost > old:
-                row[x] = cost
-            x += 1
+        if envelope:
+            _row_pass_envelope(padw, ox, nx, r, v, fv, z, d2)
+        else:
+            _row_pass_window(padw, ox, nx, r, d2)
+        row = costs[y, x0:xn]
+        for x in range(nx):
+            dd = d2[x]
+            if dd <= r2:
+                old = row[x]
+                row[x] = unknown[dd] if old == NO_INFORMATION else max(old, known[dd])
 
 
 _POOL: ThreadPoolExecutor | None = None
@@ -183,12 +253,29 @@ def _pool(n: int) -> ThreadPoolExecutor:
     return _POOL
 
 
-def _scratch_for(r: int, shape: tuple[int, int], scratch: np.ndarray | None) -> np.ndarray:
-    dtype = np.uint8 if r + 1 <= 255 else np.int32  # distances are capped at r + 1
-    if (scratch is None or scratch.dtype != dtype or scratch.shape[0] < shape[0]
-            or scratch.shape[1] < shape[1]):
-        scratch = np.empty(shape, dtype=dtype)
-    return scratch
+def _merge_tables(table: np.ndarray, inflate_unknown: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's ``known`` and ``unknown`` tables: ``table``, and costmap_2d's rule for unknown
+    cells (take the cost only if it is inscribed or lethal, or any nonzero cost with
+    ``inflate_unknown``) folded into a table of its own."""
+    known = table
+    takes = known > FREE_SPACE if inflate_unknown else known >= INSCRIBED_INFLATED_OBSTACLE
+    unknown = np.where(takes, known, np.uint8(NO_INFORMATION)).astype(np.uint8)
+    return known, unknown
+
+
+def _buffers(r: int, shape: tuple[int, int], nx: int, old: tuple | None) -> tuple:
+    """Scratch for one band: column distances ``g`` (uint8 when the cap r + 1 fits), the padded
+    row and the row of squared distances (uint16 when the window pass's sums fit)."""
+    g_type = np.uint8 if r + 2 <= 255 else np.int32  # holds the cap r + 1, plus one
+    d_type = _row_type(r)
+    g, pad, d2 = old if old is not None else (None, None, None)
+    if (g is None or g.dtype != g_type or g.shape[0] < shape[0] or g.shape[1] < shape[1]):
+        g = np.empty(shape, dtype=g_type)
+    if pad is None or pad.dtype != d_type or len(pad) < shape[1] + 2 * r:
+        pad = np.empty(shape[1] + 2 * r, dtype=d_type)
+    if d2 is None or d2.dtype != d_type or len(d2) < nx:
+        d2 = np.empty(nx, dtype=d_type)
+    return g, pad, d2
 
 
 def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: int | None = None,
@@ -211,7 +298,7 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
     if xn <= x0 or yn <= y0:
         return scratch
     r = int(round(math.sqrt(len(table) - 1)))
-    inflate_unknown = bool(inflate_unknown)
+    known, unknown = _merge_tables(table, bool(inflate_unknown))
     bands = max(1, min(int(num_threads), (yn - y0) // MIN_ROWS_PER_THREAD))
     edges = [y0 + (yn - y0) * i // bands for i in range(bands + 1)]
     jobs = []
@@ -221,9 +308,9 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
         sxn, syn = min(w, xn + r), min(h, b + r)
         if len(scratch) <= i:
             scratch.append(None)
-        scratch[i] = _scratch_for(r, (syn - sy0, sxn - sx0), scratch[i])
-        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, table, r, inflate_unknown,
-                     scratch[i]))
+        scratch[i] = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, scratch[i])
+        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, known, unknown, r)
+                    + scratch[i])
     if bands == 1:
         _inflate_kernel(*jobs[0])
     else:
