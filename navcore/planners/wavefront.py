@@ -21,9 +21,10 @@ value):
   the start of the cycle, so a cell lowered earlier in the same cycle is not queued again.
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
-planner's cost transform), so no transformed copy of the map is made per plan. Cells whose
-``pending`` flag is 4 (the outer border) are never queued: that is navfn's border of COST_OBS and
-global_planner's ``outline_map`` without writing into the shared costmap.
+planner's cost transform); the per-plan "gate" array (queue state and push cost in one float32,
+see the push rule) is set from them. Cells on the outer border have a gate of +inf and are never
+queued: that is navfn's border of COST_OBS and global_planner's ``outline_map`` without writing
+into the shared costmap.
 
 A* (``hkind``) is navfn's ``calcNavFnAstar``: the band of a cell is chosen by potential plus
 heuristic. Maps of ``TILED_MIN_CELLS`` or more run on a copy in 8x8 tiles (``run_wavefront``):
@@ -34,8 +35,9 @@ not monotone (its factor jumps from 1.0046 to 1 at ``dc == hf``), so its potenti
 visiting order: a strided order moved the 1000^2 goal potential by 0.6 %. Optimisations here keep
 the order. Measured without gain: a per-plan float32 cost array instead of the uint8 map + table,
 interleaved potential/cost pairs, FMA contraction, a premultiplied push table, OR-ed flags.
-Dropping the pending flags altogether (duplicates allowed) saves ~25 % per update but costs 55 %
-more updates. In cache the kernel needs ~24 ns per update, ~37 ns at 2000^2 row-major.
+Dropping the queue flags altogether (duplicates allowed) saves ~25 % per update but costs 55 %
+more updates. One kernel per (update, search, layout) with the flags and the push costs in one
+gate array took 30 -> 26 ms at 1000^2 (navfn, same potentials).
 """
 
 from __future__ import annotations
@@ -151,20 +153,22 @@ def untile_pot(tpot: np.ndarray, nx: int, ny: int, out: np.ndarray) -> None:
 
 
 @njit(cache=True)
-def _reset_tiled(tpot: np.ndarray, tpending: np.ndarray, nx: int, ny: int) -> None:
-    """POT_HIGH everywhere; pending 0 inside, 4 (never queued) on the border and the padding."""
+def _reset_tiled(tpot: np.ndarray, tgate: np.ndarray, tcosts: np.ndarray, lut_push: np.ndarray,
+                 nx: int, ny: int) -> None:
+    """POT_HIGH everywhere; the gate idle inside, +inf (never queued) on the border and padding."""
     ntx = (nx + TILE - 1) // TILE
     nty = (ny + TILE - 1) // TILE
     tpot[:] = POT_HIGH
-    tpending[:] = 0
+    for i in range(tgate.shape[0]):
+        tgate[i] = lut_push[tcosts[i]]
     for x in range(ntx * TILE):
-        tpending[tile_index(x, 0, ntx)] = 4
+        tgate[tile_index(x, 0, ntx)] = np.inf
         for y in range(ny - 1, nty * TILE):
-            tpending[tile_index(x, y, ntx)] = 4
+            tgate[tile_index(x, y, ntx)] = np.inf
     for y in range(ny):
-        tpending[tile_index(0, y, ntx)] = 4
+        tgate[tile_index(0, y, ntx)] = np.inf
         for x in range(nx - 1, ntx * TILE):
-            tpending[tile_index(x, y, ntx)] = 4
+            tgate[tile_index(x, y, ntx)] = np.inf
 
 
 @njit(cache=True)
@@ -175,30 +179,228 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 
 
 # The push rule (navfn's, plus the overflow upgrade), applied to each neighbour m (old potential
-# pm) of a cell that just got potential p, written out inline in ``propagate``: queue m when
-# pm > p + cost(m)/sqrt(2) (cost +inf: impassable). It is branch-free within a neighbour (at the
-# wave front the outcome is a coin flip, and mispredictions dominated the run time): m is always
-# stored at the end of the queue and only the count advances when it belongs there. pending is
-# 0 idle, 1 queued in current/next, 2 queued in overflow, 4 border (never queued). Below the
-# threshold m goes to next, also when it waits in overflow (so the band finishes it; ROS leaves
-# it waiting, and its overflow entry becomes a harmless repeat); above it, to overflow.
+# pm) of a cell that just got potential p: queue m when pm > p + cost(m)/sqrt(2). Below the
+# threshold m goes to next, also when it waits in overflow (so the band finishes it; ROS leaves it
+# waiting, and its overflow entry becomes a harmless repeat); above it, to overflow when idle.
+#
+# The queue state and the push cost share one float32 array, the "gate", so a push test is one
+# load: idle cells hold cost/sqrt(2) (> 0), cells in overflow its negation, cells in current/next,
+# impassable cells and the border +inf. Below the threshold ``pm > p + |gate|`` is the whole test,
+# above it ``gate > 0`` joins it. The pushes are branch-free (at the wave front the outcome is a
+# coin flip, and mispredictions dominated the run time): m is always stored at the end of the
+# queue and only the count advances when it belongs there.
 
 
-@njit(cache=True)
-def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: np.ndarray,
-              nx: int, ny: int, pot: np.ndarray, pending: np.ndarray, buf_a: np.ndarray,
-              buf_b: np.ndarray, buf_c: np.ndarray, seed_cells: np.ndarray, seed_pots: np.ndarray,
-              push_cells: np.ndarray, target: int, threshold: float, increment: float,
-              max_cycles: int, quadratic: bool, hkind: int = 0, hscale: float = 0.0,
+def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
+    """``propagate`` compiled for one update kind, search kind and layout: the flags are
+    constants of the closure, so each variant carries only its own code (a single generic kernel
+    spent a third of its instructions on flag tests and on spilled registers)."""
+
+    @njit(cache=True)
+    def propagate(costs: np.ndarray, lut_push: np.ndarray, lut_hf: np.ndarray,
+                  lut_inv: np.ndarray, nx: int, ny: int, pot: np.ndarray, gate: np.ndarray,
+                  buf_a: np.ndarray, buf_b: np.ndarray, buf_c: np.ndarray,
+                  seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
+                  target: int, threshold: float, increment: float, max_cycles: int, hkind: int,
+                  hscale: float) -> tuple:
+        ns = nx * ny
+        ntx = (nx + TILE - 1) // TILE
+        tx = target % nx
+        ty = target // nx
+        if tiled:
+            seed_cells = _to_tiled(seed_cells, nx, ns, ntx)
+            push_cells = _to_tiled(push_cells, nx, ns, ntx)
+            target = tile_index(tx, ty, ntx)
+            ns = pot.shape[0]
+        for i in range(seed_cells.shape[0]):
+            k = seed_cells[i]
+            if 0 <= k < ns:
+                pot[k] = seed_pots[i]
+        cur, nxt, over = buf_a, buf_b, buf_c
+        zero = np.uintp(0)
+        ncur = zero
+        nnext = zero
+        nover = zero
+        for i in range(push_cells.shape[0]):
+            m = push_cells[i]
+            if 0 <= m < ns and 0.0 < gate[m] < np.inf:
+                cur[ncur] = m
+                ncur += np.uintp(1)
+                gate[m] = np.inf
+        if astar and seed_cells.shape[0] > 0:
+            # the first band starts at the seed's key, not at its potential
+            sx, sy = _cell_xy(seed_cells[0], nx, ntx, tiled)
+            threshold += _heuristic(sx, sy, tx, ty, hkind, hscale)
+        t = np.float32(threshold)
+        inc = np.float32(increment)
+        inf = np.float32(np.inf)
+        unx = np.uintp(nx)
+        one = np.uintp(1)
+        tsize = np.uintp(TILE)
+        tmask = np.uintp(TILE - 1)
+        tshift = np.uintp(TILE_SHIFT)
+        hjump = np.uintp(TILE * TILE - TILE)  # left/right across a tile edge: +-(TILE^2-TILE+1)
+        vjump = np.uintp(ntx * TILE * TILE - TILE * TILE)  # up/down across a tile row edge
+        updates = 0
+        cycle = 0
+        reached = False
+        from_over = False
+        while cycle < max_cycles:
+            if ncur == zero:
+                break
+            # every update may store 4 entries past the end of the overflow queue (see the push
+            # rule), and overflow repeats can outgrow the map: keep room for them
+            need = np.intp(nover + np.uintp(4) * ncur + np.uintp(8))
+            if need > over.shape[0]:
+                over = _grown(over, need)
+            if from_over:
+                # a former overflow queue may hold a cell twice: make all idle first, as navfn
+                # clears its flags
+                for i in range(ncur):
+                    m = cur[i]
+                    gate[m] = lut_push[costs[m]]
+            for i in range(ncur):
+                # unsigned indices: numba then skips its negative-index wraparound test
+                n = np.uintp(cur[i])
+                if tiled:
+                    # neighbour offsets: +-1 and +-TILE inside a tile, jumps to the next tile
+                    # at its edges (computed without branches: the edge test is a coin flip)
+                    lx = n & tmask
+                    ly = (n >> tshift) & tmask
+                    ol = one + ((tsize - lx) >> tshift) * hjump
+                    orr = one + ((lx + one) >> tshift) * hjump
+                    od = tsize + ((tsize - ly) >> tshift) * vjump
+                    ou = tsize + ((ly + one) >> tshift) * vjump
+                else:
+                    ol = one
+                    orr = one
+                    od = unx
+                    ou = unx
+                cn = costs[n]
+                if not from_over:
+                    # a queue filled as ``next`` holds each cell once, so it turns idle as it
+                    # comes up: a cell lowered earlier in this cycle that is still to come is
+                    # then not queued a second time
+                    gate[n] = lut_push[cn]
+                updates += 1
+                hf = lut_hf[cn]  # queued cells are passable: every push checks it
+                l = pot[n - ol]
+                r = pot[n + orr]
+                u = pot[n - od]
+                d = pot[n + ou]
+                tc = min(l, r)
+                ta0 = min(u, d)
+                ta = min(ta0, tc)
+                if quadratic:
+                    # navfn's planar-wave update (both sides computed, then selected)
+                    dc = abs(tc - ta0)
+                    q = dc * lut_inv[cn]
+                    pq = ta + hf * (_QA * q * q + _QB * q + _QC)
+                    p = ta + hf if dc >= hf else pq
+                else:
+                    p = ta + hf
+                if not p < pot[n]:
+                    continue
+                pot[n] = p
+                if astar:
+                    hx, hy = _cell_xy(np.intp(n), nx, ntx, tiled)
+                    below = p + _heuristic(hx, hy, tx, ty, hkind, hscale) < t
+                else:
+                    below = p < t
+                # the push rule above, per neighbour (left, right, up, down), written out:
+                # passing the arrays to a helper costs reference counting in this loop. Below
+                # the threshold (nearly always, so well predicted) only next is touched.
+                if below:
+                    m = n - ol
+                    g = gate[m]
+                    ok = l > p + abs(g)
+                    gate[m] = inf if ok else g
+                    nxt[nnext] = m
+                    nnext += np.uintp(ok)
+                    m = n + orr
+                    g = gate[m]
+                    ok = r > p + abs(g)
+                    gate[m] = inf if ok else g
+                    nxt[nnext] = m
+                    nnext += np.uintp(ok)
+                    m = n - od
+                    g = gate[m]
+                    ok = u > p + abs(g)
+                    gate[m] = inf if ok else g
+                    nxt[nnext] = m
+                    nnext += np.uintp(ok)
+                    m = n + ou
+                    g = gate[m]
+                    ok = d > p + abs(g)
+                    gate[m] = inf if ok else g
+                    nxt[nnext] = m
+                    nnext += np.uintp(ok)
+                else:
+                    m = n - ol
+                    g = gate[m]
+                    ok = (l > p + g) & (g > 0)
+                    gate[m] = -g if ok else g
+                    over[nover] = m
+                    nover += np.uintp(ok)
+                    m = n + orr
+                    g = gate[m]
+                    ok = (r > p + g) & (g > 0)
+                    gate[m] = -g if ok else g
+                    over[nover] = m
+                    nover += np.uintp(ok)
+                    m = n - od
+                    g = gate[m]
+                    ok = (u > p + g) & (g > 0)
+                    gate[m] = -g if ok else g
+                    over[nover] = m
+                    nover += np.uintp(ok)
+                    m = n + ou
+                    g = gate[m]
+                    ok = (d > p + g) & (g > 0)
+                    gate[m] = -g if ok else g
+                    over[nover] = m
+                    nover += np.uintp(ok)
+            tmp = cur
+            cur = nxt
+            nxt = tmp
+            ncur = nnext
+            nnext = zero
+            from_over = False
+            if ncur == zero:
+                # band below t is exhausted: every cell under t is final
+                if pot[target] < t:
+                    reached = True
+                    break
+                t += inc
+                tmp = cur
+                cur = over
+                over = tmp
+                ncur = nover
+                nover = zero
+                from_over = True
+            cycle += 1
+        if not reached and pot[target] < POT_HIGH:
+            reached = True
+        return reached, updates, cycle
+
+    return propagate
+
+
+_PROPAGATE = {(q, a, t): _make_propagate(q, a, t)
+              for q in (False, True) for a in (False, True) for t in (False, True)}
+
+
+def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, pot: np.ndarray,
+              gate: np.ndarray, buf_a: np.ndarray, buf_b: np.ndarray, buf_c: np.ndarray,
+              seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
+              target: int, threshold: float, increment: float, max_cycles: int,
+              quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0,
               tiled: bool = False) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
-    ``costs`` is the flat uint8 costmap; ``lut[c]`` the cell cost, +inf where impassable (so the
-    push test ``old > new + cost / sqrt(2)`` also rejects impassable cells); ``lut_hf[c]`` the cost
-    the update adds (global_planner truncates it to an integer) and ``lut_inv[c]`` its reciprocal.
-    Use ``kernel_tables`` to make the three.
-    ``pot`` (float32, flat) must hold POT_HIGH everywhere and ``pending`` 0 inside, 4 on the
-    border. Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
+    ``costs`` is the flat uint8 costmap and ``tables`` its ``kernel_tables``. ``pot`` (float32,
+    flat) must hold POT_HIGH everywhere and ``gate`` (float32) the push costs with +inf on the
+    border (``reset_buffers``). Seeds get ``seed_pots``; ``push_cells`` start the wave. Returns
     ``(reached, cell_updates, cycles)``.
 
     With ``hkind`` HEURISTIC_MANHATTAN or HEURISTIC_EUCLIDEAN this is A* in navfn's
@@ -206,207 +408,42 @@ def propagate(costs: np.ndarray, lut: np.ndarray, lut_hf: np.ndarray, lut_inv: n
     to ``target`` instead of the potential alone (the stored potential has no heuristic). With a
     consistent heuristic every cell whose key is below a finished band is final, as above.
 
-    With ``tiled`` the map arrays (``costs``, ``pot``, ``pending``) are in the tiled layout of
+    With ``tiled`` the map arrays (``costs``, ``pot``, ``gate``) are in the tiled layout of
     ``tile_index`` (see ``Workspace``) while seeds, pushes and target stay row-major indices; the
     cells are visited in exactly the same order, so the potential is the same.
     """
-    ns = nx * ny
-    ntx = (nx + TILE - 1) // TILE
-    tx = target % nx
-    ty = target // nx
-    if tiled:
-        seed_cells = _to_tiled(seed_cells, nx, ns, ntx)
-        push_cells = _to_tiled(push_cells, nx, ns, ntx)
-        target = tile_index(tx, ty, ntx)
-        ns = pot.shape[0]
-    for i in range(seed_cells.shape[0]):
-        k = seed_cells[i]
-        if 0 <= k < ns:
-            pot[k] = seed_pots[i]
-    cur, nxt, over = buf_a, buf_b, buf_c
-    ncur = 0
-    nnext = 0
-    nover = 0
-    for i in range(push_cells.shape[0]):
-        m = push_cells[i]
-        if 0 <= m < ns and pending[m] == 0 and lut[costs[m]] < np.inf:
-            cur[ncur] = m
-            ncur += 1
-            pending[m] = 1
-    if hkind != HEURISTIC_NONE and seed_cells.shape[0] > 0:
-        # the first band starts at the seed's key, not at its potential
-        sx, sy = _cell_xy(seed_cells[0], nx, ntx, tiled)
-        threshold += _heuristic(sx, sy, tx, ty, hkind, hscale)
-    t = np.float32(threshold)
-    inc = np.float32(increment)
-    unx = np.uintp(nx)
-    one = np.uintp(1)
-    tsize = np.uintp(TILE)
-    tmask = np.uintp(TILE - 1)
-    tshift = np.uintp(TILE_SHIFT)
-    hjump = np.uintp(TILE * TILE - TILE)  # left/right across a tile edge: +-(TILE^2 - TILE + 1)
-    vjump = np.uintp(ntx * TILE * TILE - TILE * TILE)  # up/down across a tile row edge
-    updates = 0
-    cycle = 0
-    reached = False
-    from_over = False
-    while cycle < max_cycles:
-        if ncur == 0:
-            break
-        # every update may store 4 entries past the end of the overflow queue (see the push
-        # rule), and overflow repeats can outgrow the map: keep room for them
-        if nover + 4 * ncur + 8 > over.shape[0]:
-            over = _grown(over, nover + 4 * ncur + 8)
-        if from_over:
-            # a former overflow queue may hold a cell twice: clear all flags first, as navfn does
-            for i in range(ncur):
-                pending[cur[i]] = 0
-        for i in range(ncur):
-            # unsigned indices: numba then skips its negative-index wraparound test
-            n = np.uintp(cur[i])
-            if tiled:
-                # neighbour offsets: +-1 and +-TILE inside a tile, jumps to the next tile at
-                # its edges (computed without branches: the edge test is a coin flip)
-                lx = n & tmask
-                ly = (n >> tshift) & tmask
-                ol = one + ((tsize - lx) >> tshift) * hjump
-                orr = one + ((lx + one) >> tshift) * hjump
-                od = tsize + ((tsize - ly) >> tshift) * vjump
-                ou = tsize + ((ly + one) >> tshift) * vjump
-            else:
-                ol = one
-                orr = one
-                od = unx
-                ou = unx
-            if not from_over:
-                # a queue filled as ``next`` holds each cell once, so its flag can be cleared
-                # as the cell comes up: a cell lowered earlier in this cycle that is still to come
-                # is then not queued a second time
-                pending[n] = 0
-            cn = costs[n]
-            updates += 1
-            hf = lut_hf[cn]  # queued cells are passable: every push checks it
-            l = pot[n - ol]
-            r = pot[n + orr]
-            u = pot[n - od]
-            d = pot[n + ou]
-            tc = min(l, r)
-            ta0 = min(u, d)
-            ta = min(ta0, tc)
-            if quadratic:
-                # navfn's planar-wave update, computed without branches (both sides, then select)
-                dc = abs(tc - ta0)
-                q = dc * lut_inv[cn]
-                pq = ta + hf * (_QA * q * q + _QB * q + _QC)
-                p = ta + hf if dc >= hf else pq
-            else:
-                p = ta + hf
-            if not p < pot[n]:
-                continue
-            pot[n] = p
-            if hkind == HEURISTIC_NONE:
-                tn = np.intp(p < t)
-            else:
-                hx, hy = _cell_xy(np.intp(n), nx, ntx, tiled)
-                tn = np.intp(p + _heuristic(hx, hy, tx, ty, hkind, hscale) < t)
-            # the push rule above, per neighbour (left, right, -nx, +nx), written out: passing
-            # the arrays to a helper costs reference counting in this loop. Below the threshold
-            # (nearly always, so well predicted) only next is touched, else only overflow.
-            if tn:
-                m = n - ol
-                pq = np.intp(pending[m])
-                okn = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
-                pending[m] = np.uint8(pq + okn * (1 - pq))
-                nxt[nnext] = m
-                nnext += okn
-                m = n + orr
-                pq = np.intp(pending[m])
-                okn = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
-                pending[m] = np.uint8(pq + okn * (1 - pq))
-                nxt[nnext] = m
-                nnext += okn
-                m = n - od
-                pq = np.intp(pending[m])
-                okn = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
-                pending[m] = np.uint8(pq + okn * (1 - pq))
-                nxt[nnext] = m
-                nnext += okn
-                m = n + ou
-                pq = np.intp(pending[m])
-                okn = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp((pq & 5) == 0)
-                pending[m] = np.uint8(pq + okn * (1 - pq))
-                nxt[nnext] = m
-                nnext += okn
-            else:
-                m = n - ol
-                pq = np.intp(pending[m])
-                oko = np.intp(l > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
-                pending[m] = np.uint8(pq + 2 * oko)
-                over[nover] = m
-                nover += oko
-                m = n + orr
-                pq = np.intp(pending[m])
-                oko = np.intp(r > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
-                pending[m] = np.uint8(pq + 2 * oko)
-                over[nover] = m
-                nover += oko
-                m = n - od
-                pq = np.intp(pending[m])
-                oko = np.intp(u > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
-                pending[m] = np.uint8(pq + 2 * oko)
-                over[nover] = m
-                nover += oko
-                m = n + ou
-                pq = np.intp(pending[m])
-                oko = np.intp(d > p + _INVSQRT2 * lut[costs[m]]) & np.intp(pq == 0)
-                pending[m] = np.uint8(pq + 2 * oko)
-                over[nover] = m
-                nover += oko
-        tmp = cur
-        cur = nxt
-        nxt = tmp
-        ncur = nnext
-        nnext = 0
-        from_over = False
-        if ncur == 0:
-            # band below t is exhausted: every cell under t is final
-            if pot[target] < t:
-                reached = True
-                break
-            t += inc
-            tmp = cur
-            cur = over
-            over = tmp
-            ncur = nover
-            nover = 0
-            from_over = True
-        cycle += 1
-    if not reached and pot[target] < POT_HIGH:
-        reached = True
-    return reached, updates, cycle
+    kernel = _PROPAGATE[(bool(quadratic), hkind != HEURISTIC_NONE, bool(tiled))]
+    return kernel(costs, *tables, nx, ny, pot, gate, buf_a, buf_b, buf_c, seed_cells, seed_pots,
+                  push_cells, target, threshold, increment, max_cycles, hkind, hscale)
 
 
 def kernel_tables(lut: np.ndarray, block: float, truncate: bool) -> tuple:
-    """``(lut, lut_hf, lut_inv)`` for ``propagate`` from a planner's cost table (float32[256]):
-    impassable (>= block) becomes +inf, ``lut_hf`` is the added cost (truncated for
-    global_planner), ``lut_inv`` its reciprocal (1 where impassable, never read)."""
+    """``(lut_push, lut_hf, lut_inv)`` for ``propagate`` from a planner's cost table
+    (float32[256]): ``lut_push`` the push cost cost/sqrt(2), +inf where impassable (>= block),
+    ``lut_hf`` the added cost (truncated for global_planner), ``lut_inv`` its reciprocal (1 where
+    impassable, never read)."""
     lut = np.asarray(lut, np.float32)
     passable = lut < block
     k = np.where(passable, lut, np.float32(np.inf)).astype(np.float32)
+    push = (np.float32(INVSQRT2) * k).astype(np.float32)
     hf = (np.floor(lut) if truncate else lut).astype(np.float32)
     inv = np.where(passable & (hf > 0), 1.0 / np.where(hf > 0, hf, 1.0), 1.0).astype(np.float32)
-    return k, hf, inv
+    return push, hf, inv
 
 
-def reset_buffers(pot: np.ndarray, pending: np.ndarray, nx: int, ny: int) -> None:
-    """POT_HIGH everywhere, pending 0 inside and 4 (never queued) on the outer border."""
-    pot.fill(POT_HIGH)
-    pending.fill(0)
-    p2 = pending.reshape(ny, nx)
-    p2[0, :] = 4
-    p2[-1, :] = 4
-    p2[:, 0] = 4
-    p2[:, -1] = 4
+@njit(cache=True)
+def reset_buffers(pot: np.ndarray, gate: np.ndarray, costs: np.ndarray, lut_push: np.ndarray,
+                  nx: int, ny: int) -> None:
+    """POT_HIGH everywhere; the gate idle inside, +inf (never queued) on the outer border."""
+    pot[:] = POT_HIGH
+    for i in range(gate.shape[0]):
+        gate[i] = lut_push[costs[i]]
+    for x in range(nx):
+        gate[x] = np.inf
+        gate[(ny - 1) * nx + x] = np.inf
+    for y in range(ny):
+        gate[y * nx] = np.inf
+        gate[y * nx + nx - 1] = np.inf
 
 
 class Workspace:
@@ -438,9 +475,9 @@ class Workspace:
             nt = ((nx + TILE - 1) // TILE) * ((ny + TILE - 1) // TILE) * TILE * TILE
             self.tcosts = np.empty(nt, np.uint8)
             self.tpot = np.empty(nt, np.float32)
-            self.pending = np.empty(nt, np.uint8)
+            self.gate = np.empty(nt, np.float32)
         else:
-            self.pending = np.empty(ns, np.uint8)
+            self.gate = np.empty(ns, np.float32)
 
 
 def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int,
@@ -451,14 +488,14 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
     layout when the workspace uses it; the row-major potential ends in ``ws.pot``. ``costs`` is
     the flat row-major uint8 costmap, ``tables`` the ``kernel_tables``."""
     if not ws.tiled:
-        reset_buffers(ws.pot, ws.pending, nx, ny)
-        return propagate(costs, *tables, nx, ny, ws.pot, ws.pending, ws.buf_a, ws.buf_b,
-                         ws.buf_c, seed_cells, seed_pots, push_cells, target, threshold,
-                         increment, max_cycles, quadratic, hkind, hscale, False)
-    tile_map(costs, nx, ny, ws.tcosts, 254)  # padding is also never queued (pending 4)
-    _reset_tiled(ws.tpot, ws.pending, nx, ny)
-    out = propagate(ws.tcosts, *tables, nx, ny, ws.tpot, ws.pending, ws.buf_a, ws.buf_b,
-                    ws.buf_c, seed_cells, seed_pots, push_cells, target, threshold, increment,
-                    max_cycles, quadratic, hkind, hscale, True)
+        reset_buffers(ws.pot, ws.gate, costs, tables[0], nx, ny)
+        return propagate(costs, tables, nx, ny, ws.pot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
+                         seed_cells, seed_pots, push_cells, target, threshold, increment,
+                         max_cycles, quadratic, hkind, hscale, False)
+    tile_map(costs, nx, ny, ws.tcosts, 254)  # padding: impassable, its gate +inf anyway
+    _reset_tiled(ws.tpot, ws.gate, ws.tcosts, tables[0], nx, ny)
+    out = propagate(ws.tcosts, tables, nx, ny, ws.tpot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
+                    seed_cells, seed_pots, push_cells, target, threshold, increment, max_cycles,
+                    quadratic, hkind, hscale, True)
     untile_pot(ws.tpot, nx, ny, ws.pot)
     return out
