@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.types import Pose2D
@@ -33,28 +34,6 @@ def lethal_squares(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                             origin_y + (my + y0 + 0.5) * resolution])
 
 
-def _segment_distances(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance of points p (..., K, 2) to segments a->b (..., E, 2): shape (..., K, E)."""
-    ab = b - a                                              # (..., E, 2)
-    ap = p[..., :, None, :] - a[..., None, :, :]            # (..., K, E, 2)
-    den = np.maximum(np.sum(ab * ab, axis=-1), 1e-18)[..., None, :]
-    t = np.clip(np.sum(ap * ab[..., None, :, :], axis=-1) / den, 0.0, 1.0)
-    d = ap - t[..., None] * ab[..., None, :, :]
-    return np.sqrt(np.sum(d * d, axis=-1))
-
-
-def _inside(p: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Crossing-number test of points p (..., K, 2) against polygons (..., N, 2): (..., K)."""
-    a = poly[..., None, :, :]
-    b = np.roll(poly, -1, axis=-2)[..., None, :, :]
-    px = p[..., :, None, 0]
-    py = p[..., :, None, 1]
-    crosses = (a[..., 1] > py) != (b[..., 1] > py)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xi = a[..., 0] + (py - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
-    return (np.sum(crosses & (px < xi), axis=-1) % 2) == 1
-
-
 def footprint_clearances(footprint: np.ndarray, poses: np.ndarray, squares: np.ndarray,
                          half: float) -> np.ndarray:
     """Signed clearance (m) of the footprint polygon at each pose (P, 3) from the squares of
@@ -63,25 +42,75 @@ def footprint_clearances(footprint: np.ndarray, poses: np.ndarray, squares: np.n
     poses = np.asarray(poses, dtype=float).reshape(-1, 3)
     if squares.shape[0] == 0:
         return np.full(poses.shape[0], np.inf)
-    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
-    fx, fy = footprint[:, 0], footprint[:, 1]
-    poly = np.stack([poses[:, None, 0] + c[:, None] * fx - s[:, None] * fy,
-                     poses[:, None, 1] + s[:, None] * fx + c[:, None] * fy], axis=-1)  # (P,N,2)
-    nxt = np.roll(poly, -1, axis=1)
-    offs = np.array([[-half, -half], [half, -half], [half, half], [-half, half]])
-    corners = (squares[:, None, :] + offs[None, :, :]).reshape(-1, 2)          # (4M, 2)
-    cp = np.broadcast_to(corners, (poses.shape[0],) + corners.shape)
-    # corners of the squares to the footprint's edges
-    d_corner = _segment_distances(cp, poly, nxt).min(axis=-1)                  # (P, 4M)
-    inside = _inside(cp, poly)
-    # footprint vertices to the squares (axis-aligned box distance)
-    dx = np.abs(poly[:, :, None, 0] - squares[None, None, :, 0]) - half
-    dy = np.abs(poly[:, :, None, 1] - squares[None, None, :, 1]) - half
-    d_vertex = np.hypot(np.maximum(dx, 0.0), np.maximum(dy, 0.0))             # (P, N, M)
-    gap = np.minimum(d_corner.min(axis=-1), d_vertex.reshape(poses.shape[0], -1).min(axis=-1))
-    vertex_in = np.any((dx < 0.0) & (dy < 0.0), axis=(1, 2))
-    depth = np.where(inside, d_corner, 0.0).max(axis=-1)
-    return np.where(inside.any(axis=-1), -depth, np.where(vertex_in, 0.0, gap))
+    # numpy's cos/sin, as the poses' headings are elsewhere (numba's may differ in the last bit)
+    return _clearances(np.ascontiguousarray(footprint, dtype=float),
+                       np.ascontiguousarray(poses), np.cos(poses[:, 2]), np.sin(poses[:, 2]),
+                       np.ascontiguousarray(squares, dtype=float), float(half))
+
+
+@njit(cache=True)
+def _clearances(footprint: np.ndarray, poses: np.ndarray, cos_t: np.ndarray, sin_t: np.ndarray,
+                squares: np.ndarray, half: float) -> np.ndarray:
+    """``footprint_clearances`` pose by pose, without the (P, 4M, N, 2) temporaries.
+
+    Per pose: the distance of every square corner to the footprint's edges (and whether it is
+    inside, by crossing number), and the box distance of every footprint vertex to every square.
+    """
+    n, m = footprint.shape[0], squares.shape[0]
+    out = np.empty(poses.shape[0])
+    px, py = np.empty(n), np.empty(n)
+    abx, aby, den = np.empty(n), np.empty(n), np.empty(n)
+    nxt = np.empty(n, np.int64)
+    for i in range(n):
+        nxt[i] = i + 1 if i + 1 < n else 0
+    offs = ((-half, -half), (half, -half), (half, half), (-half, half))
+    for k in range(poses.shape[0]):
+        c, s = cos_t[k], sin_t[k]
+        for i in range(n):
+            px[i] = poses[k, 0] + c * footprint[i, 0] - s * footprint[i, 1]
+            py[i] = poses[k, 1] + s * footprint[i, 0] + c * footprint[i, 1]
+        for i in range(n):  # edge i runs from vertex i to vertex nxt[i]
+            abx[i], aby[i] = px[nxt[i]] - px[i], py[nxt[i]] - py[i]
+            den[i] = max(abx[i] * abx[i] + aby[i] * aby[i], 1e-18)
+        gap = math.inf
+        depth = 0.0
+        any_inside = False
+        for j in range(m):
+            for o in range(4):
+                qx = squares[j, 0] + offs[o][0]
+                qy = squares[j, 1] + offs[o][1]
+                d2_min = math.inf  # squared: sqrt is monotonic, so one sqrt of the minimum
+                crossings = 0
+                for i in range(n):
+                    ax, ay = px[i], py[i]
+                    apx, apy = qx - ax, qy - ay
+                    t = min(max((apx * abx[i] + apy * aby[i]) / den[i], 0.0), 1.0)
+                    dx, dy = apx - t * abx[i], apy - t * aby[i]
+                    d2 = dx * dx + dy * dy
+                    if d2 < d2_min:
+                        d2_min = d2
+                    if (ay > qy) != (py[nxt[i]] > qy):
+                        if qx < ax + (qy - ay) * abx[i] / aby[i]:
+                            crossings += 1
+                d_min = math.sqrt(d2_min)
+                if d_min < gap:
+                    gap = d_min
+                if crossings % 2 == 1:
+                    any_inside = True
+                    if d_min > depth:
+                        depth = d_min
+        vertex_in = False
+        for i in range(n):
+            for j in range(m):
+                dx = abs(px[i] - squares[j, 0]) - half
+                dy = abs(py[i] - squares[j, 1]) - half
+                if dx < 0.0 and dy < 0.0:
+                    vertex_in = True
+                d = math.hypot(max(dx, 0.0), max(dy, 0.0))
+                if d < gap:
+                    gap = d
+        out[k] = -depth if any_inside else (0.0 if vertex_in else gap)
+    return out
 
 
 def body_polygon(handle: object) -> np.ndarray | None:
