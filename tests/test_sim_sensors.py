@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from hw.sim import Circle, Simulator, World
+from hw.sim.noise import standard_normals
 from hw.sim.sensors import odometry_noise_step
 from navcore.clock import SimClock
 from navcore.maps import OccupancyGrid
@@ -118,6 +119,15 @@ def test_range_noise_has_the_configured_spread():
     errs = np.concatenate(errs)
     assert abs(errs.mean()) < 0.002
     assert errs.std() == pytest.approx(0.03, rel=0.05)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 7, 720, 2500])
+def test_laser_noise_stream_is_the_legacy_numpy_one(n):
+    """The kernel's own generator draws exactly what numpy's RandomState(seed) draws (and what
+    numba's np.random gave before), so scans did not change when it replaced numba's."""
+    for seed in (0, 1, 12345, 2 ** 32 - 1, 3_000_000_019):
+        want = np.random.RandomState(seed).standard_normal(n)
+        assert np.array_equal(standard_normals(seed, n), want)
 
 
 # --------------------------------------------------------------------------- odometry noise
