@@ -150,3 +150,94 @@ def test_threaded_bands_give_the_same_costs():
     assert len(scratch) == 3
     assert np.array_equal(three[10:590], one[10:590])
     assert np.array_equal(three[:10], base[:10]) and np.array_equal(three[590:], base[590:])
+
+
+def _reference(costs, table, x0, y0, xn, yn, inflate_unknown):
+    """Inflation of the window from the full-map exact EDT and the merge rule, written out."""
+    r = math.isqrt(len(table) - 1)
+    lethal = costs == LETHAL_OBSTACLE
+    if not lethal.any():  # (the EDT's value without any site is finite)
+        return costs.copy()
+    d2 = squared_distance_transform(lethal)
+    out = costs.copy()
+    for y in range(y0, yn):
+        for x in range(x0, xn):
+            if d2[y, x] > r * r:
+                continue
+            c = int(table[int(d2[y, x])])
+            old = int(out[y, x])
+            if old == NO_INFORMATION:
+                if (c > FREE_SPACE) if inflate_unknown else (c >= INSCRIBED_INFLATED_OBSTACLE):
+                    out[y, x] = c
+            else:
+                out[y, x] = max(old, c)
+    return out
+
+
+# radii (cells) covering each row type and row pass: uint8 (r <= 11), uint16, the envelope (>= 40)
+@pytest.mark.parametrize("radius_cells", [0, 1, 2, 7, 11, 12, 20, 39, 40, 57])
+def test_truncated_transform_agrees_with_the_full_edt_on_random_maps_and_windows(radius_cells):
+    rng = np.random.default_rng(100 + radius_cells)
+    table = cost_table(RES, 0.6 * radius_cells * RES, (radius_cells - 0.25) * RES, 4.0)
+    assert len(table) == radius_cells ** 2 + 1
+    for trial in range(6):
+        h, w = (int(v) for v in rng.integers(1, 3 * radius_cells + 30, 2))
+        costs = np.zeros((h, w), np.uint8)
+        costs[rng.random((h, w)) < rng.choice([0.002, 0.02, 0.2])] = LETHAL_OBSTACLE
+        costs[rng.random((h, w)) < 0.15] = NO_INFORMATION
+        costs[rng.random((h, w)) < 0.1] = rng.integers(1, 253)
+        if trial == 0:  # windows at the map edges and the whole map
+            x0, y0, xn, yn = 0, 0, w, h
+        else:
+            x0, xn = sorted(int(v) for v in rng.integers(0, w + 1, 2))
+            y0, yn = sorted(int(v) for v in rng.integers(0, h + 1, 2))
+        for inflate_unknown in (False, True):
+            expected = _reference(costs, table, x0, y0, xn, yn, inflate_unknown)
+            got = costs.copy()
+            inflate(got, table, x0, y0, xn, yn, inflate_unknown=inflate_unknown)
+            assert np.array_equal(got, expected), (trial, inflate_unknown, (x0, y0, xn, yn))
+
+
+def test_reused_scratch_and_threads_give_the_same_costs_at_every_radius():
+    rng = np.random.default_rng(21)
+    base = np.zeros((400, 230), np.uint8)
+    base[rng.random(base.shape) < 0.003] = LETHAL_OBSTACLE
+    base[rng.random(base.shape) < 0.05] = NO_INFORMATION
+    scratch: list = []
+    for radius in (0.3, 1.0, 2.5, 0.55):  # uint8, uint16, envelope, uint8 again: buffers change
+        table = cost_table(RES, INSCRIBED, radius, 3.0)
+        one = base.copy()
+        scratch = inflate(one, table, scratch=scratch)
+        expected = _reference(base, table, 0, 0, 230, 400, False)
+        assert np.array_equal(one, expected), radius
+        two = base.copy()
+        inflate(two, table, 5, 3, 220, 396, num_threads=2)
+        assert np.array_equal(two[3:396, 5:220], expected[3:396, 5:220]), radius
+
+
+@pytest.mark.parametrize("r", [1, 3, 11, 25])
+def test_window_and_envelope_row_passes_agree_within_the_radius(r):
+    # the two row passes the kernel chooses between by radius, on the same random rows
+    from navcore.costmap.inflation import _row_pass_envelope, _row_pass_window, _row_type
+    rng = np.random.default_rng(r)
+    t = _row_type(r)
+    for trial in range(50):
+        w = int(rng.integers(1, 120))
+        g = np.minimum(rng.integers(0, r + 2, w), r + 1)
+        g[rng.random(w) < 0.5] = r + 1  # many cells out of reach
+        pad = np.full(w + 2 * r, r * r + 1, t)
+        pad[r:r + w] = np.minimum(g * g, r * r + 1)
+        ox, nx = sorted(int(v) for v in rng.integers(0, w + 1, 2))
+        nx -= ox
+        a = np.zeros(max(nx, 1), t)
+        b = np.zeros(max(nx, 1), np.int32)
+        _row_pass_window(pad, ox, nx, r, a)
+        _row_pass_envelope(pad, ox, nx, r, np.empty(w, np.int64), np.empty(w, np.int64),
+                           np.empty(w + 1, np.float64), b)
+        q = np.arange(w)
+        brute = np.array([min([int(g[i]) ** 2 + (x - i) ** 2 for i in q if g[i] <= r],
+                              default=r * r + 1) for x in range(ox, ox + nx)], dtype=np.int64)
+        inside = brute <= r * r
+        assert np.array_equal(a[:nx][inside], brute[inside]), trial
+        assert np.array_equal(b[:nx][inside], brute[inside]), trial
+        assert (a[:nx][~inside] > r * r).all() and (b[:nx][~inside] > r * r).all(), trial
