@@ -169,27 +169,13 @@ def clearance_field(occ: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float,
-                   t_end: float) -> float:
-    """The core of ``cast_ray_clear`` in grid units: start (gx, gy) in cells, unit direction
-    (dx, dy), range ``t_end`` in cells; returns the hit distance in cells or ``t_end``."""
+def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, t_end: float,
+                 t: float, t1: float, disks: np.ndarray, nd: int) -> tuple[float, int]:
+    """Sphere tracing with the exact cell walk near obstacles, from parameter ``t`` (the ray is
+    known to be clear up to there and inside the grid until ``t1``). Unless ``disks`` is None,
+    each leap's clear disk (centre, radius in cells) is appended to it from row ``nd`` while
+    there is room; returns (hit distance or ``t_end``, new disk count)."""
     h, w = clear.shape
-    t0 = 0.0
-    t1 = t_end
-    if 0.0 <= gx < w and 0.0 <= gy < h:
-        # inside (the usual case): only the exit parameter is needed
-        if dx > 0.0:
-            t1 = min(t1, (w - gx) / dx)
-        elif dx < 0.0:
-            t1 = min(t1, -gx / dx)
-        if dy > 0.0:
-            t1 = min(t1, (h - gy) / dy)
-        elif dy < 0.0:
-            t1 = min(t1, -gy / dy)
-    else:
-        t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
-        if t0 > t1 or t0 >= t_end:
-            return t_end
     step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
     step_y = 1 if dy > 0.0 else (-1 if dy < 0.0 else 0)
     inv_x = 1.0 / dx if dx != 0.0 else _INF
@@ -199,7 +185,6 @@ def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float
     # the face ahead of cell c along x is at c + face_x (1 moving +x, 0 moving -x)
     face_x = 1.0 if dx > 0.0 else 0.0
     face_y = 1.0 if dy > 0.0 else 0.0
-    t = t0
     while True:
         # (re)locate the cell holding the point at parameter t and its next faces
         cx = min(max(_axis_entry(gx + t * dx, dx), 0), w - 1)
@@ -209,7 +194,7 @@ def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float
         while True:
             c = clear[cy, cx]
             if c == 0:
-                return t
+                return t, nd
             if c >= 4:
                 break  # far from everything: leap
             if t_max_x < t_max_y:
@@ -217,18 +202,106 @@ def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float
                 t_max_x += t_delta_x
                 cx += step_x
                 if cx < 0 or cx >= w:
-                    return t_end
+                    return t_end, nd
             else:
                 t = t_max_y
                 t_max_y += t_delta_y
                 cy += step_y
                 if cy < 0 or cy >= h:
-                    return t_end
+                    return t_end, nd
             if t >= t_end:
-                return t_end
+                return t_end, nd
+        if disks is not None:  # pruned at compile time when None
+            if nd < disks.shape[0]:
+                # every point within c - 0.7072 of this cell's centre is clear (see
+                # cast_ray_clear); 0.75 keeps a margin
+                disks[nd, 0] = cx + 0.5
+                disks[nd, 1] = cy + 0.5
+                disks[nd, 2] = c - 0.75
+                nd += 1
         t += c - 1.5
         if t >= t1:
+            return t_end, nd
+
+
+@njit(cache=True)
+def _exit_parameter(gx: float, gy: float, dx: float, dy: float, w: int, h: int,
+                    t_end: float) -> float:
+    """Where a ray starting inside the grid leaves it (capped at ``t_end``)."""
+    t1 = t_end
+    if dx > 0.0:
+        t1 = min(t1, (w - gx) / dx)
+    elif dx < 0.0:
+        t1 = min(t1, -gx / dx)
+    if dy > 0.0:
+        t1 = min(t1, (h - gy) / dy)
+    elif dy < 0.0:
+        t1 = min(t1, -gy / dy)
+    return t1
+
+
+@njit(cache=True)
+def cast_dir_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float,
+                   t_end: float) -> float:
+    """The core of ``cast_ray_clear`` in grid units: start (gx, gy) in cells, unit direction
+    (dx, dy), range ``t_end`` in cells; returns the hit distance in cells or ``t_end``."""
+    h, w = clear.shape
+    if 0.0 <= gx < w and 0.0 <= gy < h:
+        # inside (the usual case): only the exit parameter is needed
+        t0 = 0.0
+        t1 = _exit_parameter(gx, gy, dx, dy, w, h, t_end)
+    else:
+        t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
+        if t0 > t1 or t0 >= t_end:
             return t_end
+    return _march_clear(clear, gx, gy, dx, dy, t_end, t0, t1, None, 0)[0]
+
+
+@njit(cache=True)
+def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_end: float,
+                   out: np.ndarray) -> None:
+    """``cast_dir_clear`` for a fan of unit directions ``dirs`` (N, 2) from one start, in order
+    of angle, into ``out`` (N,), with the same ranges (to rounding: the walk may start from
+    another point of the same free stretch). Neighbouring beams pass through the same open
+    space, so each beam first slides along the clear disks its predecessor leapt through (pure
+    arithmetic) and only then reads the grid; that saves about a fifth of the leaps, whose
+    dependent loads are what a cast costs."""
+    h, w = clear.shape
+    n = dirs.shape[0]
+    if not (0.0 <= gx < w and 0.0 <= gy < h):
+        for i in range(n):
+            out[i] = cast_dir_clear(clear, gx, gy, dirs[i, 0], dirs[i, 1], t_end)
+        return
+    prev = np.empty((64, 3))
+    cur = np.empty((64, 3))
+    n_prev = 0
+    for i in range(n):
+        dx = dirs[i, 0]
+        dy = dirs[i, 1]
+        t = 0.0
+        n_cur = 0
+        for j in range(n_prev):
+            # the stretch of this ray inside disk j; slide to its end if it covers t
+            ox = gx - prev[j, 0]
+            oy = gy - prev[j, 1]
+            r = prev[j, 2]
+            b = ox * dx + oy * dy
+            disc = b * b - (ox * ox + oy * oy - r * r)
+            if disc > 0.0:
+                s = math.sqrt(disc)
+                if -b - s <= t < -b + s:
+                    t = -b + s
+                    cur[n_cur, 0] = prev[j, 0]
+                    cur[n_cur, 1] = prev[j, 1]
+                    cur[n_cur, 2] = r
+                    n_cur += 1
+        t1 = _exit_parameter(gx, gy, dx, dy, w, h, t_end)
+        if t >= t1:
+            out[i] = t_end
+        else:
+            out[i], n_cur = _march_clear(clear, gx, gy, dx, dy, t_end, t, t1, cur, n_cur)
+        prev, cur = cur, prev
+        n_prev = n_cur
 
 
 @njit(cache=True)

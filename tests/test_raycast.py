@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from navcore.raycast import (cast_ray, cast_rays, cast_rays_clear, cast_rays_shapes,
+from navcore.raycast import (cast_dir_clear, cast_fan_clear, cast_ray, cast_rays,
+                             cast_rays_clear, cast_rays_shapes,
                              clearance_field, distance_field, ray_circle, ray_segment,
                              segment_blocked)
 
@@ -152,3 +153,68 @@ def test_clearance_leaping_gives_the_exact_same_ranges(density):
         want = cast_rays(occ, -0.2, 0.3, RES, x, y, angles, 8.0)
         got = cast_rays_clear(clear, -0.2, 0.3, RES, x, y, angles, 8.0)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+
+
+def _fan_dirs(a0: float, n: int, span: float) -> np.ndarray:
+    a = a0 + np.linspace(0.0, span, n)
+    return np.stack([np.cos(a), np.sin(a)], axis=1)
+
+
+def _check_fan_against_exact(occ: np.ndarray, rng: np.random.Generator, starts: int,
+                             t_end: float) -> None:
+    """cast_fan_clear (beams sliding on their predecessor's clear disks) against the exact cell
+    walk per beam: equal to rounding in float64 and identical once scaled to float32 metres,
+    which is what the laser publishes."""
+    clear = clearance_field(occ)
+    h, w = occ.shape
+    for k in range(starts):
+        gx, gy = rng.uniform(-3.0, w + 3.0), rng.uniform(-3.0, h + 3.0)  # a few off the grid
+        n = int(rng.choice([3, 181, 720, 1440]))
+        dirs = _fan_dirs(rng.uniform(-math.pi, math.pi), n, rng.choice([0.3, 4.71, 2 * math.pi]))
+        got = np.empty(n)
+        cast_fan_clear(clear, gx, gy, dirs, t_end, got)
+        want = np.array([cast_ray(occ, 0.0, 0.0, 1.0, gx, gy, math.atan2(d[1], d[0]), t_end)
+                         for d in dirs])
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+        single = np.array([cast_dir_clear(clear, gx, gy, d[0], d[1], t_end) for d in dirs])
+        assert np.array_equal((got * RES).astype(np.float32), (single * RES).astype(np.float32))
+
+
+@pytest.mark.parametrize("density", [0.0, 0.002, 0.02, 0.1])
+def test_fan_casting_gives_the_exact_ranges_in_clutter(density):
+    rng = np.random.default_rng(5)
+    occ = (rng.random((150, 200)) < density).astype(np.uint8)
+    occ[40:42, 20:180] = 1  # a long wall to graze along
+    occ[60:140, 100] = 1  # a thin one
+    _check_fan_against_exact(occ, rng, 25, 160.0)
+
+
+def test_fan_casting_gives_the_exact_ranges_in_a_box_and_around_a_disc():
+    rng = np.random.default_rng(6)
+    occ = box_world(160)
+    yy, xx = np.mgrid[0:160, 0:160]
+    occ[(xx - 100.5) ** 2 + (yy - 70.5) ** 2 <= 15.0 ** 2] = 1
+    _check_fan_against_exact(occ, rng, 25, 400.0)
+
+
+@pytest.mark.parametrize("name", ["willow_garage", "intel_lab"])
+def test_fan_casting_gives_the_exact_ranges_on_real_maps(shared_data, name):
+    from navcore.maps import load_map
+    from tests.conftest import REAL_MAPS
+    grid = load_map(shared_data / "maps" / REAL_MAPS[name])
+    occ = np.ascontiguousarray((grid.data >= 65) | (grid.data < 0), dtype=np.uint8)
+    rng = np.random.default_rng(7)
+    clear = clearance_field(occ)
+    free = np.argwhere(occ == 0)
+    for r, c in free[rng.integers(0, len(free), 30)]:
+        gx, gy = c + rng.random(), r + rng.random()
+        dirs = _fan_dirs(rng.uniform(-math.pi, math.pi), 720, 4.71238898)
+        got = np.empty(720)
+        cast_fan_clear(clear, gx, gy, dirs, 600.0, got)
+        single = np.array([cast_dir_clear(clear, gx, gy, d[0], d[1], 600.0) for d in dirs])
+        np.testing.assert_allclose(got, single, rtol=0, atol=1e-9)
+        assert np.array_equal((got * 0.05).astype(np.float32),
+                              (single * 0.05).astype(np.float32))
+        want = np.array([cast_ray(occ, 0.0, 0.0, 1.0, gx, gy, math.atan2(d[1], d[0]), 600.0)
+                         for d in dirs[::9]])
+        np.testing.assert_allclose(got[::9], want, rtol=0, atol=1e-9)

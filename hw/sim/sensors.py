@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 from hw.sim.noise import standard_normals
-from navcore.raycast import cast_dir_clear, ray_circle, ray_segment
+from navcore.raycast import cast_fan_clear, ray_circle, ray_segment
 
 
 @njit(cache=True)
@@ -37,6 +37,7 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
     t_end = range_max / res
     ci = math.cos(inc)
     si = math.sin(inc)
+    dirs = np.empty((n, 2), np.float64)
     dx = 1.0
     dy = 0.0
     for i in range(n):
@@ -45,8 +46,14 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
             dy = math.sin(a0 + i * inc)
         else:
             dx, dy = dx * ci - dy * si, dx * si + dy * ci
-        t = cast_dir_clear(clear, gx, gy, dx, dy, t_end)
+        dirs[i, 0] = dx
+        dirs[i, 1] = dy
+    cast_fan_clear(clear, gx, gy, dirs, t_end, ranges)
+    for i in range(n):
+        t = ranges[i]
         r = range_max if t >= t_end else t * res
+        dx = dirs[i, 0]
+        dy = dirs[i, 1]
         for k in range(circles.shape[0]):
             d = ray_circle(x, y, dx, dy, circles[k, 0], circles[k, 1], circles[k, 2])
             if d < r:
