@@ -134,3 +134,40 @@ def test_footprint_cost_sees_an_obstacle_strictly_inside():
     assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, 2.5, 2.5, 1.0) == 254
     assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, 3.5, 2.5, 0.0) == 0
     assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, 0.1, 2.5, 0.0) == -1
+
+
+@pytest.mark.parametrize("case", ["wide_rows", "heap_rows", "many_vertices", "narrow_map",
+                                  "strided_costs"])
+def test_footprint_cost_matches_brute_force_beyond_the_common_sizes(case):
+    """The kernel's other paths: row spans longer than one vector load, more rows or vertices
+    than its stack scratch holds, maps narrower than a vector load, non-contiguous rows."""
+    rng = np.random.default_rng(11)
+    res, ox, oy = 0.05, 0.0, 0.0
+    h, w = 60, 60
+    fp = make_footprint(RECT, footprint_padding=0.0)
+    if case == "wide_rows":          # 1.2 m x 0.6 m at 0.01 m: spans of up to ~130 cells
+        fp = np.array([[0.6, 0.3], [0.6, -0.3], [-0.6, -0.3], [-0.6, 0.3]])
+        res, h, w = 0.01, 200, 200
+    elif case == "heap_rows":        # 3.2 m across at 0.01 m: ~320 rows
+        fp = make_footprint(None, 1.6, 0.0)
+        res, h, w = 0.01, 400, 400
+    elif case == "many_vertices":    # a 100-gon
+        a = np.arange(100) * (2 * math.pi / 100)
+        fp = np.stack([0.4 * np.cos(a), 0.3 * np.sin(a)], axis=1)
+    elif case == "narrow_map":
+        h, w = 60, 14
+    for trial in range(25):
+        costs = np.zeros((h, w), np.uint8)
+        k = rng.integers(1, 6) * max(1, h * w // 3600)  # a few cells under the footprint
+        costs[rng.integers(0, h, k), rng.integers(0, w, k)] = rng.integers(1, 255, k)
+        if case == "strided_costs":
+            wide = np.zeros((h, 2 * w), np.uint8)
+            wide[:, ::2] = costs
+            wide[:, 1::2] = 255          # must never be read
+            costs = wide[:, ::2]
+        half = circumscribed_radius(fp) + 1e-6  # on the map at any heading
+        x = ox + rng.uniform(half, w * res - half)
+        y = oy + rng.uniform(half, h * res - half)
+        th = rng.uniform(-math.pi, math.pi)
+        expected = _brute_force(costs, ox, oy, res, fp, x, y, th)
+        assert footprint_cost(costs, ox, oy, res, fp, x, y, th) == expected, (trial, x, y, th)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 from llvmlite import ir
-from numba import njit, types
+from numba import carray, njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
@@ -193,24 +193,58 @@ def _square_meets_polygon(footprint: np.ndarray, x: float, y: float, c: float, s
     return False
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _edge_in_band(au: float, av: float, bu: float, bv: float, slope: float, band: int,
-                  lo: float, hi: float) -> tuple[float, float]:
-    """Widen the x extent (lo, hi) of row band ``band`` by the part of edge a->b inside it
-    (a horizontal edge counts whole); ``slope`` = (bu - au) / (bv - av), from ``_slope``."""
-    e0 = min(av, bv)
-    e1 = max(av, bv)
-    if e0 == e1:
-        return min(lo, min(au, bu)), max(hi, max(au, bu))
-    xa = au + (max(e0, float(band)) - av) * slope
-    xb = au + (min(e1, band + 1.0) - av) * slope
-    return min(lo, min(xa, xb)), max(hi, max(xa, xb))
+STACK_VERTICES = 64  # footprints up to this many vertices keep their placed copy on the stack
+STACK_ROWS = 256  # and up to this many cell rows their row extents; larger ones use the heap
+_VERTEX_SLOTS = 2 * STACK_VERTICES  # module constants: _stack_doubles needs a literal
+_ROW_SLOTS = 2 * STACK_ROWS
+LANES = 16  # cells read per vector load when taking the max of a row span
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _slope(au: float, av: float, bu: float, bv: float) -> float:
-    """du/dv of edge a->b (0 for a horizontal edge, which ``_edge_in_band`` takes whole)."""
-    return 0.0 if av == bv else (bu - au) / (bv - av)
+@intrinsic
+def _stack_doubles(typingctx, count):  # type: ignore[no-untyped-def]
+    """A pointer to ``count`` (a literal int) uninitialised float64 slots in the calling
+    function's stack frame: scratch without a heap allocation or reference counting."""
+    if not isinstance(count, types.IntegerLiteral):
+        return None
+    n = count.literal_value
+
+    def codegen(context, builder, sig, args):
+        return cgutils.alloca_once(builder, ir.DoubleType(), size=n)
+    return types.CPointer(types.float64)(count), codegen
+
+
+@intrinsic
+def _lanes_max(typingctx, arr, row, start, skip, count, width):  # type: ignore[no-untyped-def]
+    """Max of arr[row, start + i] over the lanes skip <= i < skip + count of one ``width``-cell
+    (a literal) unaligned vector load, others masked to 0. The caller keeps start + width
+    within the row and the row contiguous. A loop over a short span runs scalar (the
+    vectoriser wants far longer rows); this reads up to ``width`` cells without a branch."""
+    if not (isinstance(arr, types.Array) and arr.ndim == 2 and arr.dtype == types.uint8
+            and isinstance(width, types.IntegerLiteral)):
+        return None
+    w = width.literal_value
+
+    def codegen(context, builder, sig, args):
+        a = context.make_array(sig.args[0])(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, sig.args[0], a, [args[1], args[2]],
+                                       wraparound=False)
+        i8, i32 = ir.IntType(8), ir.IntType(32)
+        vec = ir.VectorType(i8, w)
+
+        def splat(value):  # the low byte of an int64, in every lane
+            one = builder.insert_element(ir.Constant(vec, ir.Undefined),
+                                         builder.trunc(value, i8), i32(0))
+            return builder.shuffle_vector(one, ir.Constant(vec, ir.Undefined),
+                                          ir.Constant(ir.VectorType(i32, w), [0] * w))
+        cells = builder.load(builder.bitcast(ptr, vec.as_pointer()), align=1)
+        lane = ir.Constant(vec, [i8(i) for i in range(w)])
+        # lane - skip < count, unsigned: lanes before skip wrap to large values
+        keep = builder.icmp_unsigned("<", builder.sub(lane, splat(args[3])), splat(args[4]))
+        cells = builder.select(keep, cells, ir.Constant(vec, [i8(0)] * w))
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(i8, [vec]),
+                                            f"llvm.vector.reduce.umax.v{w}i8")
+        return builder.call(fn, [cells])
+    return types.uint8(arr, row, start, skip, count, width), codegen
 
 
 @njit(cache=True, nogil=True)
@@ -220,12 +254,11 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     passes through and every cell inside it (a conservative rasterisation: no cell the robot
     overlaps is missed). -1 if any vertex is off the map.
 
-    Row band by row band, bottom to top: the part of each edge within a band gives the band's x
-    extent. An outline that rises monotonically on both sides of its lowest vertex (any convex
-    one) is walked along those two chains, an edge at a time, so each band's extent is complete
-    when the walk leaves it; any other outline is scanned edge by edge per band. For a convex
-    footprint the covered cells of a row are that one span, read with a vectorisable max; a
-    non-convex one checks each cell of the span exactly. Allocates nothing.
+    Row band by row band (cell rows), the parts of the edges within a band give its x extent.
+    Edge by edge, each edge widens the extents of the bands it crosses: short loops with few
+    data-dependent branches. For a convex footprint the covered cells of a row are that one
+    span, read a vector at a time; a non-convex one checks each cell of the span exactly.
+    Allocates nothing for footprints and rasters of ordinary size (scratch on the stack).
     """
     n = footprint.shape[0]
     size_y = costs.shape[0]
@@ -233,113 +266,92 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     c = math.cos(theta)
     s = math.sin(theta)
     inv = 1.0 / resolution
-    # one pass over the vertices: on the map, lowest and highest, convex, v-monotone
+    if n <= STACK_VERTICES:
+        vert = carray(_stack_doubles(_VERTEX_SLOTS), (2, STACK_VERTICES))
+    else:
+        vert = np.empty((2, n))
     vmin = 1e300
     vmax = -1e300
     umin = 1e300
     umax = -1e300
-    bottom = 0
-    top = 0
-    convex = True
-    turn = 0.0
-    changes = 0  # sign changes of dv around the outline: 2 for a v-monotone one
-    first_dv = 0.0
-    last_dv = 0.0
-    au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x, origin_y, inv)
-    bu, bv = _place(footprint[0, 0], footprint[0, 1], x, y, c, s, origin_x, origin_y, inv)
+    on_map = True
     for k in range(n):
-        if not (bu >= 0.0 and bv >= 0.0 and bu < size_x and bv < size_y):  # also catches NaN
-            return -1
-        if bv < vmin:
-            vmin = bv
-            bottom = k
-        if bv > vmax:
-            vmax = bv
-            top = k
-        umin = min(umin, bu)
-        umax = max(umax, bu)
-        kn = k + 1 if k + 1 < n else 0
-        cu, cv = _place(footprint[kn, 0], footprint[kn, 1], x, y, c, s, origin_x, origin_y, inv)
-        cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
-        if cross != 0.0:  # convex iff every turn has one sign
-            if turn == 0.0:
-                turn = cross
-            elif (cross > 0.0) != (turn > 0.0):
-                convex = False
-        dv = bv - av
-        if dv != 0.0:
-            if last_dv == 0.0:
-                first_dv = dv
-            elif (dv > 0.0) != (last_dv > 0.0):
-                changes += 1
-            last_dv = dv
-        au, av, bu, bv = bu, bv, cu, cv
-    if last_dv != 0.0 and (first_dv > 0.0) != (last_dv > 0.0):
-        changes += 1  # across the wrap
-    monotone = changes == 2 and bottom != top
+        u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+        on_map &= u >= 0.0 and v >= 0.0 and u < size_x and v < size_y  # False for NaN too
+        vert[0, k] = u
+        vert[1, k] = v
+        vmin = min(vmin, v)
+        vmax = max(vmax, v)
+        umin = min(umin, u)
+        umax = max(umax, u)
+    if not on_map:
+        return -1
+    r0 = int(vmin)
+    rows = int(vmax) - r0 + 1
     # ask for both ends of each row's bounding-box stretch first: the fetches overlap, so on a
     # large costmap that is not in cache the rows cost about one memory latency, not one each
-    for row in range(int(vmin), int(vmax) + 1):
+    for row in range(r0, r0 + rows):
         _prefetch(costs, row, int(umin))
         _prefetch(costs, row, int(umax))
-    # chain state: the current edge runs from vertex p (lower) to the next one (q) along the
-    # chain; f walks forward (k + 1), g backward (k - 1). Edges are evaluated in polygon order
-    # (vertex k - 1 -> k), so the numbers are the ones a plain per-edge pass computes.
-    fp = bottom
-    fpu, fpv = _place(footprint[fp, 0], footprint[fp, 1], x, y, c, s, origin_x, origin_y, inv)
-    q = fp + 1 if fp + 1 < n else 0
-    fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
-    fslope = _slope(fpu, fpv, fqu, fqv)
-    gp = bottom
-    gpu, gpv = fpu, fpv
-    q = gp - 1 if gp > 0 else n - 1
-    gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x, origin_y, inv)
-    gslope = _slope(gqu, gqv, gpu, gpv)
+    # convex iff the turns never change sign (collinear vertices do not count)
+    left = False
+    right = False
+    au, av = vert[0, n - 2], vert[1, n - 2]
+    bu, bv = vert[0, n - 1], vert[1, n - 1]
+    for k in range(n):
+        cu, cv = vert[0, k], vert[1, k]
+        cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
+        left |= cross > 0.0
+        right |= cross < 0.0
+        au, av, bu, bv = bu, bv, cu, cv
+    convex = not (left and right)
+    if rows <= STACK_ROWS:
+        ext = carray(_stack_doubles(_ROW_SLOTS), (2, STACK_ROWS))
+    else:
+        ext = np.empty((2, rows))
+    for r in range(rows):
+        ext[0, r] = 1e300
+        ext[1, r] = -1e300
+    # edge k - 1 -> k widens every band it meets by its part inside (a horizontal edge whole)
+    au, av = vert[0, n - 1], vert[1, n - 1]
+    for k in range(n):
+        bu, bv = vert[0, k], vert[1, k]
+        e0 = min(av, bv)
+        e1 = max(av, bv)
+        if e0 == e1:
+            r = int(e0) - r0
+            ext[0, r] = min(ext[0, r], min(au, bu))
+            ext[1, r] = max(ext[1, r], max(au, bu))
+        else:
+            slope = (bu - au) / (bv - av)
+            for row in range(int(e0), int(e1) + 1):
+                xa = au + (max(e0, float(row)) - av) * slope
+                xb = au + (min(e1, row + 1.0) - av) * slope
+                r = row - r0
+                ext[0, r] = min(ext[0, r], min(xa, xb))
+                ext[1, r] = max(ext[1, r], max(xa, xb))
+        au, av = bu, bv
+    vector_rows = size_x >= LANES and costs.strides[1] == 1
     best = 0
-    for row in range(int(vmin), int(vmax) + 1):
-        lo = 1e300
-        hi = -1e300
-        if monotone:
-            while fp != top:
-                lo, hi = _edge_in_band(fpu, fpv, fqu, fqv, fslope, row, lo, hi)
-                if fqv >= row + 1.0:  # the edge goes on into the next band
-                    break
-                fp = fp + 1 if fp + 1 < n else 0
-                fpu, fpv = fqu, fqv
-                if fp != top:
-                    q = fp + 1 if fp + 1 < n else 0
-                    fqu, fqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
-                                      origin_y, inv)
-                    fslope = _slope(fpu, fpv, fqu, fqv)
-            while gp != top:
-                lo, hi = _edge_in_band(gqu, gqv, gpu, gpv, gslope, row, lo, hi)
-                if gqv >= row + 1.0:
-                    break
-                gp = gp - 1 if gp > 0 else n - 1
-                gpu, gpv = gqu, gqv
-                if gp != top:
-                    q = gp - 1 if gp > 0 else n - 1
-                    gqu, gqv = _place(footprint[q, 0], footprint[q, 1], x, y, c, s, origin_x,
-                                      origin_y, inv)
-                    gslope = _slope(gqu, gqv, gpu, gpv)
-        else:  # a rare outline: every edge, for every band
-            au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x,
-                            origin_y, inv)
-            for k in range(n):
-                bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y,
-                                inv)
-                if min(av, bv) < row + 1.0 and int(max(av, bv)) >= row:
-                    lo, hi = _edge_in_band(au, av, bu, bv, _slope(au, av, bu, bv), row, lo, hi)
-                au, av = bu, bv
-        if lo > hi:
-            continue
-        m0 = int(lo)
-        m1 = min(int(hi), size_x - 1)
+    for r in range(rows):
+        row = r0 + r
+        m0 = int(ext[0, r])
+        m1 = min(int(ext[1, r]), size_x - 1)
         if convex:
             rb = np.uint8(0)
-            # unsigned column indices: no negative-index wraparound, so plain contiguous loads
-            for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
-                rb = max(rb, costs[row, mx])  # branch-free
+            if vector_rows:  # written out here: a helper taking the array costs a refcount
+                start = m0
+                left_over = m1 - m0 + 1
+                while left_over > LANES:
+                    rb = max(rb, _lanes_max(costs, row, start, 0, LANES, LANES))
+                    start += LANES
+                    left_over -= LANES
+                at = min(start, size_x - LANES)  # the last load ends inside the row
+                rb = max(rb, _lanes_max(costs, row, at, start - at, left_over, LANES))
+            else:
+                # unsigned column indices: no negative-index wraparound, so plain loads
+                for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
+                    rb = max(rb, costs[row, mx])
             if rb > best:
                 best = np.int64(rb)
                 if best == 255:  # nothing can be higher
