@@ -212,7 +212,7 @@ class FollowPath(Leaf):
                              f"moved less than {self.get_input('required_movement_radius')} m in "
                              f"{self.get_input('movement_time_allowance')} s")
         self.write("cmd_vel", result.cmd)
-        self.say(f"{result.status}: vx {result.cmd.vx:.2f} wz {result.cmd.wz:.2f}")
+        self.say("{}: vx {:.2f} wz {:.2f}", result.status, result.cmd.vx, result.cmd.wz)
         return Status.RUNNING
 
     def _stalled(self, pose: Pose2D, now: float) -> bool:

@@ -93,7 +93,8 @@ class NavNode(PortsMixin):
         raise NotImplementedError(f"{type(self).__name__}: no tick_now")
 
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        """py_trees' generator API: tick once, then yield the nodes ticked, in order."""
+        """py_trees' generator API: tick once, then yield the nodes ticked, in order (their
+        statuses are read after the whole tick; ``tick_observed`` sees each as it finishes)."""
         ticked: list[py_trees.behaviour.Behaviour] = []
         tick_observed(self, ticked.append)
         yield from ticked
@@ -189,9 +190,23 @@ class NavNode(PortsMixin):
         raise ComponentError(f"{type(self).__name__} '{self.name}': setup() needs component "
                              f"'{key}' (see behaviors/components.py)")
 
-    def say(self, message: str) -> None:
-        """Set the feedback message (lands in the executive's tick record)."""
-        self.feedback_message = message
+    def say(self, message: str, *args: Any) -> None:
+        """Set the feedback message; with ``args`` it is ``message.format(*args)``, formatted
+        when first read (a message set every tick then costs no float formatting). Pass only
+        immutable values (numbers, strings) as ``args``."""
+        self._feedback = (message, args) if args else message
+
+    @property
+    def feedback_message(self) -> str:
+        """py_trees' feedback message (the text of the last ``say``)."""
+        message = self._feedback
+        if message.__class__ is tuple:
+            message = self._feedback = message[0].format(*message[1])
+        return message
+
+    @feedback_message.setter
+    def feedback_message(self, message: str) -> None:
+        self._feedback = message
 
     @classmethod
     def describe(cls) -> str:

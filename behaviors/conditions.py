@@ -56,7 +56,7 @@ class GoalReached(Condition):
             self.say("no goal")
             return Status.FAILURE
         d = self.pose().distance_to(goal)
-        self.say(f"{d:.2f} m from the goal")
+        self.say("{:.2f} m from the goal", d)
         return _yes(d <= self.get_input("goal_reached_tol"))
 
 
@@ -158,7 +158,7 @@ class IsStuck(Condition):
         stuck = self._window.stalled(pose, now, self.get_input("required_movement_radius"),
                                      self.get_input("movement_time_allowance"))
         if stuck:
-            self.say(f"no progress for {now - self._window.since:.1f} s")
+            self.say("no progress for {:.1f} s", now - self._window.since)
         return _yes(stuck)
 
 
@@ -222,7 +222,7 @@ class IsLocalized(Condition):
             return Status.SUCCESS
         cov = np.asarray(self.localizer.covariance(), dtype=float)
         sx, sy, st = (math.sqrt(max(0.0, float(cov[i, i]))) for i in range(3))
-        self.say(f"std x {sx:.2f} y {sy:.2f} yaw {st:.2f}")
+        self.say("std x {:.2f} y {:.2f} yaw {:.2f}", sx, sy, st)
         return _yes(max(sx, sy) <= self.get_input("max_xy_std")
                     and st <= self.get_input("max_yaw_std"))
 
@@ -332,7 +332,7 @@ class IsGoalNearby(Condition):
         if path is not getattr(self, "_path", None):  # a new plan: sum its lengths once
             self._path, self._to_go = path, length_to_go(path.poses)
         left = remaining_length(path, self.pose(), self._to_go)
-        self.say(f"{left:.2f} m of path left")
+        self.say("{:.2f} m of path left", left)
         return _yes(left < self.get_input("proximity_threshold"))
 
 

@@ -246,8 +246,10 @@ class RecoveryNode(Control):
     def _maybe_reset(self, recovery: Behaviour) -> None:
         """The main child has been RUNNING ``reset_after`` s since the last recovery: start the
         recovery list again."""
+        if self._retries == 0 or self._clock is None:  # the usual tick: nothing to reset
+            return
         reset_after = self.get_input("reset_after")
-        if reset_after <= 0.0 or self._retries == 0 or self._clock is None:
+        if reset_after <= 0.0:
             return
         if self._clock.now() - self._since >= reset_after - 1e-9:  # float sums of periods
             self._retries = 0

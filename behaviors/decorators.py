@@ -171,7 +171,7 @@ class Delay(_Timed):
         if self.status != Status.RUNNING:
             self._start_at = now + self.get_input("delay_msec") / 1000.0
         if now < self._start_at:
-            self.say(f"waiting {self._start_at - now:.2f} s")
+            self.say("waiting {:.2f} s", self._start_at - now)
             self._finish(Status.RUNNING)
             return
         tick_child(self.decorated)

@@ -227,7 +227,7 @@ class Wait(Recovery):
         left = self._until - self.clock.now()
         if left <= 1e-9:
             return Status.SUCCESS
-        self.say(f"{left:.1f} s left")
+        self.say("{:.1f} s left", left)
         return Status.RUNNING
 
 
@@ -321,7 +321,7 @@ class Spin(Recovery):
                 return Status.FAILURE
         self._w = sign * w
         self.write("cmd_vel", Twist(0.0, 0.0, self._w))
-        self.say(f"turned {self._turned:.2f} of {abs(target):.2f} rad")
+        self.say("turned {:.2f} of {:.2f} rad", self._turned, abs(target))
         return Status.RUNNING
 
 
@@ -383,7 +383,7 @@ class DriveOnHeading(Recovery):
                             f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
                 return Status.FAILURE
         self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
-        self.say(f"drove {travelled:.2f} of {abs(dist):.2f} m")
+        self.say("drove {:.2f} of {:.2f} m", travelled, abs(dist))
         return Status.RUNNING
 
 
@@ -669,8 +669,8 @@ class TemporaryGoal(Recovery):
                 return Status.FAILURE
             self._own, cmd = True, own
         self.write("cmd_vel", cmd)
-        self.say(f"{pose.distance_to(self._goal):.2f} m to the temporary goal"
-                 + (" (own pursuit)" if self._own else ""))
+        self.say("{:.2f} m to the temporary goal" + (" (own pursuit)" if self._own else ""),
+                 pose.distance_to(self._goal))
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
@@ -768,6 +768,6 @@ class BackOffToPreviousPose(Recovery):
                         f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
             return Status.FAILURE
         self.write("cmd_vel", cmd)
-        self.say(f"{pose.distance_to(target):.2f} m to the previous pose "
-                 f"(heading {heading_to(pose, target):.2f})")
+        self.say("{:.2f} m to the previous pose (heading {:.2f})", pose.distance_to(target),
+                 heading_to(pose, target))
         return Status.RUNNING

@@ -35,6 +35,7 @@ RECOVERY_TYPES = frozenset({
 })
 
 _mission_ids = itertools.count(1)
+_NOOP_INITIALISE = py_trees.behaviour.Behaviour.initialise
 
 
 class RobotIO(Protocol):
@@ -187,6 +188,8 @@ class Executive:
         for node in self.tree.root.iterate():
             for method in ("initialise", "update"):
                 original = getattr(node, method)
+                if getattr(original, "__func__", None) is _NOOP_INITIALISE:
+                    continue  # py_trees' own no-op cannot raise: no wrapper call per tick
                 setattr(node, method, self._guarded(node, method, original))
             if type(node).__name__ in RECOVERY_TYPES:
                 init = getattr(node, "initialise")

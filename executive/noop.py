@@ -97,6 +97,12 @@ class FreeCostmap:
         return 0
 
 
+# Odometry is frozen and these are never written: one read-only pair serves every message.
+_ZERO_COVARIANCE = np.zeros((3, 3))
+_ZERO_COVARIANCE.flags.writeable = False
+_NO_EVENTS = BaseEvents()
+
+
 class _Base:
     def __init__(self, robot: KinematicRobot) -> None:
         self.robot = robot
@@ -105,13 +111,14 @@ class _Base:
         self.robot.cmd = cmd
 
     def odometry(self) -> Odometry:
-        return Odometry(self.robot.t, self.robot.pose, self.robot.cmd)
+        return Odometry(self.robot.t, self.robot.pose, self.robot.cmd, _ZERO_COVARIANCE,
+                        _ZERO_COVARIANCE)
 
     def battery(self):
         return None
 
     def events(self) -> BaseEvents:
-        return BaseEvents()
+        return _NO_EVENTS
 
 
 class _Laser:

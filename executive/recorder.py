@@ -13,6 +13,7 @@ import dataclasses
 import enum
 import json
 import math
+import operator
 from typing import Any, Iterator, TextIO
 
 import numpy as np
@@ -75,6 +76,7 @@ def subsample_path(poses: np.ndarray) -> list[list[float]]:
 
 
 _ABSENT = object()
+_STATUS = operator.attrgetter("status")
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -95,26 +97,31 @@ class BlackboardWatcher:
     def __init__(self, namespace: str) -> None:
         self.prefix = namespace.rstrip("/") + "/"
         self._last: dict[str, Any] = {}
-        self._keys: list[tuple[str, str]] = []
+        self._keys: list[str] = []
+        self._short: list[str] = []
+        self._last_values: list[Any] = []  # self._last's values in the order of self._keys
         self._seen_size = -1
 
     def changes(self) -> dict[str, Any]:
         storage = py_trees.blackboard.Blackboard.storage
         if len(storage) != self._seen_size:  # keys come and go rarely: rescan only then
             n = len(self.prefix)
-            self._keys = [(k, k[n:]) for k in storage if k.startswith(self.prefix)]
+            self._keys = [k for k in storage if k.startswith(self.prefix)]
+            self._short = [k[n:] for k in self._keys]
+            self._last_values = [self._last.get(s, _ABSENT) for s in self._short]
             self._seen_size = len(storage)
+        get = storage.get
+        values = [get(k, _ABSENT) for k in self._keys]
         out: dict[str, Any] = {}
-        last = self._last
-        for key, short in self._keys:
-            value = storage.get(key, _ABSENT)
-            if value is _ABSENT:
+        last_values = self._last_values
+        for i, value in enumerate(values):
+            old = last_values[i]
+            if old is value or value is _ABSENT:
                 continue
-            old = last.get(short, _ABSENT)
-            if old is value or (old is not _ABSENT and _same(old, value)):
+            if old is not _ABSENT and _same(old, value):
                 continue
-            last[short] = value
-            out[short] = value
+            short = self._short[i]
+            last_values[i] = self._last[short] = out[short] = value
         return out
 
 
@@ -144,7 +151,7 @@ class Recorder:
         return -1
 
     def status_changes(self) -> dict[str, str]:
-        statuses = [node.status for node in self._nodes]
+        statuses = list(map(_STATUS, self._nodes))
         last = self._last_status
         if statuses == last:  # the usual tick: one C-level comparison, members by identity
             return {}

@@ -117,28 +117,34 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
 
     ``BehaviourTree.tick`` iterates every node after the tick for "full" visitors even when
     there are none; at 20 Hz that walk is a large part of the tick overhead. navbt nodes tick
-    by plain calls (behaviors.base.tick_child); visitors still see each node as it finishes.
+    by plain calls (behaviors.base.tick_child); visitors still see each node as it finishes its
+    tick (tick_observed), with the status it has then.
     """
 
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
-        if any(v.full for v in self.visitors):
-            return super().tick(pre_tick_handler, post_tick_handler)
         if pre_tick_handler is not None:
             pre_tick_handler(self)
         for handler in self.pre_tick_handlers:
             handler(self)
         visitors = self.visitors
-        for visitor in visitors:
-            visitor.initialise()
         if visitors:
+            for visitor in visitors:
+                visitor.initialise()
+            ticking = [v for v in visitors if not v.full]
+
             def visit(node: py_trees.behaviour.Behaviour) -> None:
-                for visitor in visitors:
+                for visitor in ticking:
                     node.visit(visitor)
             tick_observed(self.root, visit)
+            full = [v for v in visitors if v.full]
+            if full:
+                for node in self.root.iterate():
+                    for visitor in full:
+                        node.visit(visitor)
+            for visitor in visitors:
+                visitor.finalise()
         else:
             tick_child(self.root)
-        for visitor in visitors:
-            visitor.finalise()
         for handler in self.post_tick_handlers:
             handler(self)
         if post_tick_handler is not None:

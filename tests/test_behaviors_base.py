@@ -1,0 +1,59 @@
+"""behaviors.base: plain-call ticking seen through py_trees' generator API, lazy feedback."""
+
+from __future__ import annotations
+
+import itertools
+
+from py_trees.behaviours import StatusQueue
+from py_trees.common import Status
+
+from behaviors.base import make, tick_observed
+
+S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
+_ns = itertools.count()
+
+
+def q(name, statuses, eventually=None):
+    return StatusQueue(name=name, queue=statuses, eventually=eventually)
+
+
+def recovery_tree():
+    ns = f"/base{next(_ns)}"
+    main = make("Sequence", namespace=ns, children=[q("a", [S, F, S], S), q("b", [R, F, S], S)])
+    rec = make("Inverter", namespace=ns, child=q("c", [F, F], F))
+    return make("RecoveryNode", namespace=ns, children=[main, rec], number_of_retries=3)
+
+
+def test_tick_observed_sees_each_node_as_it_finishes_with_its_status_then():
+    # RecoveryNode re-ticks its main child in the same tick: nodes come more than once, in
+    # order, each with the status it had when it finished its tick (before any later halt).
+    root = recovery_tree()
+    seen = []
+    for _ in range(3):
+        tick = []
+        tick_observed(root, lambda n: tick.append((n.name, n.status)))
+        seen.append(tick)
+    assert seen[0] == [("a", S), ("b", R), ("Sequence", R), ("RecoveryNode", R)]
+    assert seen[1] == [("b", F), ("Sequence", F), ("c", F), ("Inverter", S),
+                       ("a", F), ("Sequence", F), ("c", F), ("Inverter", S),
+                       ("a", S), ("b", S), ("Sequence", S), ("RecoveryNode", S)]
+    assert seen[2] == [("a", S), ("b", S), ("Sequence", S), ("RecoveryNode", S)]
+
+
+def test_generator_yields_the_same_nodes_in_the_same_order():
+    a, b = recovery_tree(), recovery_tree()
+    for _ in range(3):
+        observed = []
+        tick_observed(a, observed.append)
+        assert [n.name for n in observed] == [n.name for n in b.tick()]
+        assert a.status == b.status
+
+
+def test_feedback_is_formatted_when_read():
+    node = make("Wait", namespace=f"/base{next(_ns)}", wait_duration=1.0)
+    node.say("{:.2f} m of path left, {}", 1.23456, "ok")
+    assert node.feedback_message == "1.23 m of path left, ok"
+    node.say("plain")
+    assert node.feedback_message == "plain"
+    node.feedback_message = "set directly"
+    assert node.feedback_message == "set directly"
