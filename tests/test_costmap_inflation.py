@@ -174,14 +174,14 @@ def _reference(costs, table, x0, y0, xn, yn, inflate_unknown):
     return out
 
 
-# radii (cells) covering each row type and row pass: uint8 (r <= 11), uint16, the envelope (>= 40)
-@pytest.mark.parametrize("radius_cells", [0, 1, 2, 7, 11, 12, 20, 39, 40, 57])
+# radii (cells) covering each row type and row pass: uint8 (r <= 11), uint16, the envelope (>= 182)
+@pytest.mark.parametrize("radius_cells", [0, 1, 2, 7, 11, 12, 20, 39, 181, 182, 190])
 def test_truncated_transform_agrees_with_the_full_edt_on_random_maps_and_windows(radius_cells):
     rng = np.random.default_rng(100 + radius_cells)
     table = cost_table(RES, 0.6 * radius_cells * RES, (radius_cells - 0.25) * RES, 4.0)
     assert len(table) == radius_cells ** 2 + 1
     for trial in range(6):
-        h, w = (int(v) for v in rng.integers(1, 3 * radius_cells + 30, 2))
+        h, w = (int(v) for v in rng.integers(1, min(3 * radius_cells + 30, 230), 2))
         costs = np.zeros((h, w), np.uint8)
         costs[rng.random((h, w)) < rng.choice([0.002, 0.02, 0.2])] = LETHAL_OBSTACLE
         costs[rng.random((h, w)) < 0.15] = NO_INFORMATION
@@ -204,7 +204,7 @@ def test_reused_scratch_and_threads_give_the_same_costs_at_every_radius():
     base[rng.random(base.shape) < 0.003] = LETHAL_OBSTACLE
     base[rng.random(base.shape) < 0.05] = NO_INFORMATION
     scratch: list = []
-    for radius in (0.3, 1.0, 2.5, 0.55):  # uint8, uint16, envelope, uint8 again: buffers change
+    for radius in (0.3, 1.0, 9.5, 0.55):  # uint8, uint16, envelope, uint8 again: buffers change
         table = cost_table(RES, INSCRIBED, radius, 3.0)
         one = base.copy()
         scratch = inflate(one, table, scratch=scratch)
@@ -241,3 +241,31 @@ def test_window_and_envelope_row_passes_agree_within_the_radius(r):
         assert np.array_equal(a[:nx][inside], brute[inside]), trial
         assert np.array_equal(b[:nx][inside], brute[inside]), trial
         assert (a[:nx][~inside] > r * r).all() and (b[:nx][~inside] > r * r).all(), trial
+
+
+@pytest.mark.parametrize("r", [2, 11, 30])
+def test_both_row_passes_give_the_same_costs(r):
+    # the kernel's two row passes (chosen by radius in ``inflate``) on the same maps and windows
+    from navcore.costmap.inflation import _buffers, _inflate_kernel, _merge_tables
+    rng = np.random.default_rng(40 + r)
+    table = cost_table(RES, 0.3 * r * RES, (r - 0.25) * RES, 2.0)
+    changed = 0
+    for trial in range(8):
+        h, w = (int(v) for v in rng.integers(1, 4 * r + 40, 2))
+        costs = np.zeros((h, w), np.uint8)
+        costs[rng.random((h, w)) < rng.choice([0.005, 0.05])] = LETHAL_OBSTACLE
+        costs[rng.random((h, w)) < 0.1] = NO_INFORMATION
+        x0, xn = sorted(int(v) for v in rng.integers(0, w + 1, 2))
+        y0, yn = sorted(int(v) for v in rng.integers(0, h + 1, 2))
+        sx0, sy0, sxn, syn = max(0, x0 - r), max(0, y0 - r), min(w, xn + r), min(h, yn + r)
+        known, unknown = _merge_tables(table, bool(trial % 2))
+        out = []
+        for envelope in (False, True):
+            c = costs.copy()
+            bufs = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, None)
+            _inflate_kernel(c, x0, y0, xn, yn, sx0, sy0, sxn, syn, known, unknown, r, envelope,
+                            *bufs)
+            out.append(c)
+        assert np.array_equal(out[0], out[1]), trial
+        changed += int((out[0] != costs).sum())
+    assert changed > 0  # the maps were really inflated

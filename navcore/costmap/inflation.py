@@ -169,10 +169,11 @@ def _row_pass_envelope(pad: np.ndarray, ox: int, nx: int, r: int, v: np.ndarray,
         d2[x] = min(dx * dx + fv[j], beyond)
 
 
-# Up to this cell radius the row pass takes the 2r + 1 taps of ``_row_pass_window`` (vector
-# operations, no branches); from it on, the envelope's O(1) per cell wins (measured on the
-# bench's office maps, see bench/bench_costmap.py --radii).
-ENVELOPE_FROM_RADIUS = 40
+# The first cell radius whose window-pass sums (up to 2 r^2 + 1) overflow uint16. Below it the
+# 2r + 1 vector taps of ``_row_pass_window`` win even at large radii; from it on they run at half
+# the lanes (int32) and the envelope's O(1) per cell is faster. Measured on the 2000x2000 office
+# map, ms for window / envelope: r = 11: 12.6 / 52; r = 180: 52 / 87; r = 182: 129 / 59.
+ENVELOPE_FROM_RADIUS = 182
 
 
 def _row_type(r: int) -> type:
@@ -187,7 +188,7 @@ def _row_type(r: int) -> type:
 @njit(cache=True, nogil=True)
 def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
                     sxn: int, syn: int, known: np.ndarray, unknown: np.ndarray, r: int,
-                    g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
+                    envelope: bool, g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
     """Write inflated costs into ``costs`` over [x0, xn) x [y0, yn), from the lethal cells of the
     source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius r).
 
@@ -203,6 +204,7 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     ``known[d2]`` is the cost at squared distance d2 <= r^2; ``unknown[d2]`` is what an unknown
     cell becomes (NO_INFORMATION when it stays unknown). ``g`` is a scratch of at least the
     source window's shape; ``pad`` and ``d2`` are row scratch of the dtype ``_row_type`` gives.
+    ``envelope`` picks the row pass (both give the same costs; see ENVELOPE_FROM_RADIUS).
     Squared distances are clamped at r^2 + 1: that changes no value up to r^2 and keeps larger
     ones larger.
     """
@@ -218,7 +220,6 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     padw = pad[:w + 2 * r]
     ox = x0 - sx0
     nx = xn - x0
-    envelope = r >= ENVELOPE_FROM_RADIUS
     if envelope:
         v = np.empty(w, dtype=np.int64)
         fv = np.empty(w, dtype=np.int64)
@@ -309,8 +310,8 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
         if len(scratch) <= i:
             scratch.append(None)
         scratch[i] = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, scratch[i])
-        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, known, unknown, r)
-                    + scratch[i])
+        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, known, unknown, r,
+                     r >= ENVELOPE_FROM_RADIUS) + scratch[i])
     if bands == 1:
         _inflate_kernel(*jobs[0])
     else:
