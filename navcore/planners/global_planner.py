@@ -15,7 +15,8 @@ the quadratic one, straight-line distance x 0.99 x ``neutral_cost``, which that 
 as little as 0.704 x cost per cell) does not keep consistent: on the 1000^2 and 2000^2 office
 benchmarks the goal's potential is 0.2 % and 0.1 % above Dijkstra's (with 20 x neutral_cost wide
 bands, see ASTAR_QUADRATIC_BAND). Dijkstra runs
-until the goal's potential is final, no queue cap, buffers reused, the shared costmap is never
+until the goal's potential is final, in bands ``BAND_NEUTRALS`` x ``neutral_cost`` wide (the C++
+uses 2 x), no queue cap, buffers reused, the shared costmap is never
 written (``outline_map`` and the robot-cell clearing act on the planner's view only), the path
 ends with one goal pose (the C++ repeats the goal's position), and
 ``default_tolerance`` is honoured (the C++ declares it and ignores it).
@@ -32,9 +33,9 @@ from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.orientation import apply_orientation
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
-from navcore.planners.wavefront import (HEURISTIC_EUCLIDEAN, HEURISTIC_MANHATTAN,
-                                        HEURISTIC_NONE, POT_HIGH, Workspace, kernel_tables,
-                                        run_wavefront)
+from navcore.planners.wavefront import (BAND_NEUTRALS, HEURISTIC_EUCLIDEAN,
+                                        HEURISTIC_MANHATTAN, HEURISTIC_NONE, POT_HIGH, Workspace,
+                                        kernel_tables, run_wavefront)
 from navcore.types import Path, Pose2D
 
 GLOBAL_PLANNER_PARAMS = (
@@ -69,7 +70,7 @@ GLOBAL_PLANNER_PARAMS = (
 # A* with the quadratic update: straight-line distance x this x neutral_cost (in free space the
 # quadratic potential grows by 0.9957 x cost per cell of straight-line distance)
 ASTAR_QUADRATIC_SCALE = 0.99
-# ... and bands 20 x neutral_cost wide instead of navfn's 2 x: that heuristic is not consistent for
+# ... and bands 20 x neutral_cost wide instead of navfn's 2 x (BAND_NEUTRALS elsewhere): that heuristic is not consistent for
 # the quadratic update, so narrow bands close cells early and then correct them. Measured on the
 # office benchmark (1000^2 / 2000^2): updates per cell 0.74 / 0.96 -> 0.58 / 0.74, goal potential
 # 1.9 % / 1.8 % -> 0.2 % / 0.1 % above Dijkstra's.
@@ -169,7 +170,7 @@ class GlobalPlanner:
         target = int(g[1]) * nx + int(g[0])
         seeds_a = np.array(seeds, np.int64)
         pots_a = np.array(seed_pots, np.float32)
-        band = 2 * neutral  # navfn's priInc
+        band = BAND_NEUTRALS * neutral
         if p.use_dijkstra:
             hkind, hscale = HEURISTIC_NONE, 0.0
         elif p.use_quadratic:

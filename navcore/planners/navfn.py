@@ -6,8 +6,10 @@ inscribed and lethal impassable, unknown 253 when ``allow_unknown``); the goal t
 searched for the reachable point closest to the goal; the path descends the interpolated gradient
 from there and comes out robot -> goal in world coordinates ``origin + cell * resolution`` (navfn's
 corner convention), ending with the goal pose. Differences from the C++: no 10000-cell queue cap,
-the stop waits for the goal's potential to be final (see ``wavefront``), buffers are reused, and
-the shared costmap is never written (the C++ clears the robot cell in it).
+the stop waits for the goal's potential to be final (see ``wavefront``), threshold bands are
+``BAND_NEUTRALS`` (10) x ``COST_NEUTRAL`` wide instead of 2 x (fewer updates; potentials within
+1e-5), buffers are reused, and the shared costmap is never written (the C++ clears the robot
+cell in it).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from navcore.params import Param, Parameters
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_NEUTRAL, gradient_path
-from navcore.planners.wavefront import POT_HIGH, Workspace, kernel_tables, run_wavefront
+from navcore.planners.wavefront import (BAND_NEUTRALS, POT_HIGH, Workspace, kernel_tables,
+                                        run_wavefront)
 from navcore.types import Path, Pose2D
 
 COST_NEUTRAL = 50
@@ -91,7 +94,7 @@ class NavFn:
         _, self.last_updates, _ = run_wavefront(
             ws, costs, kernel_tables(lut, COST_OBS, False), nx, ny, np.array([k], np.int64),
             np.array([0.0], np.float32), np.array([k + 1, k - 1, k - nx, k + nx], np.int64),
-            target, float(COST_OBS), float(2 * COST_NEUTRAL), 2 * nx * ny, True)
+            target, float(COST_OBS), float(BAND_NEUTRALS * COST_NEUTRAL), 2 * nx * ny, True)
         potential = ws.pot.reshape(ny, nx) if p.visualize_potential else None
         best = search_tolerance(cm, ws.pot, goal, tol)
         if best is None:

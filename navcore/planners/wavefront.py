@@ -56,6 +56,15 @@ _QC = np.float32(0.7040)
 _INVSQRT2 = np.float32(INVSQRT2)
 
 
+# Threshold bands this many neutral costs wide (navfn's priInc is 2): each band change re-queues
+# the overflow, whose repeats are updates that lower nothing, while wider bands let the FIFO order
+# within a band stray from Dijkstra's and redo cells. Measured on the 1000^2 office map: 2 x ->
+# 10 x takes navfn's updates 960k -> 809k, global_planner's 994k -> 831k (plain update 855k ->
+# 796k, its A* 449k -> 368k); at 2000^2 navfn 3.85M -> 3.28M. The plain update stays exact
+# (the band stop holds for any width); the quadratic one, order-dependent, moves the goal's
+# potential by under 1e-5.
+BAND_NEUTRALS = 10
+
 HEURISTIC_NONE = 0
 HEURISTIC_MANHATTAN = 1
 HEURISTIC_EUCLIDEAN = 2
