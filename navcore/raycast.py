@@ -173,8 +173,9 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
                  t: float, t1: float, disks: np.ndarray, nd: int) -> tuple[float, int]:
     """Sphere tracing with the exact cell walk near obstacles, from parameter ``t`` (the ray is
     known to be clear up to there and inside the grid until ``t1``). Unless ``disks`` is None,
-    each leap's clear disk (centre, radius in cells) is appended to it from row ``nd`` while
-    there is room; returns (hit distance or ``t_end``, new disk count)."""
+    each leap's clear disk is appended to it from row ``nd`` while there is room, as
+    (ox, oy, k): the start minus the disk's centre and |o|^2 - radius^2, all a ray from this
+    start needs to intersect it; returns (hit distance or ``t_end``, new disk count)."""
     h, w = clear.shape
     step_x = 1 if dx > 0.0 else (-1 if dx < 0.0 else 0)
     step_y = 1 if dy > 0.0 else (-1 if dy < 0.0 else 0)
@@ -215,9 +216,12 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
             if nd < disks.shape[0]:
                 # every point within c - 0.7072 of this cell's centre is clear (see
                 # cast_ray_clear); 0.75 keeps a margin
-                disks[nd, 0] = cx + 0.5
-                disks[nd, 1] = cy + 0.5
-                disks[nd, 2] = c - 0.75
+                ox = gx - (cx + 0.5)
+                oy = gy - (cy + 0.5)
+                r = c - 0.75
+                disks[nd, 0] = ox
+                disks[nd, 1] = oy
+                disks[nd, 2] = ox * ox + oy * oy - r * r
                 nd += 1
         t += c - 1.5
         if t >= t1:
@@ -264,8 +268,9 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
     of angle, into ``out`` (N,), with the same ranges (to rounding: the walk may start from
     another point of the same free stretch). Neighbouring beams pass through the same open
     space, so each beam first slides along the clear disks its predecessor leapt through (pure
-    arithmetic) and only then reads the grid; that saves about a fifth of the leaps, whose
-    dependent loads are what a cast costs."""
+    arithmetic) and only then reads the grid. Each leap is a chain of dependent steps (point,
+    cell, load, next point), which is what a cast costs; on the Willow Garage map sliding
+    replaces two leaps in three and a third of the time."""
     h, w = clear.shape
     n = dirs.shape[0]
     if not (0.0 <= gx < w and 0.0 <= gy < h):
@@ -281,20 +286,20 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
         t = 0.0
         n_cur = 0
         for j in range(n_prev):
-            # the stretch of this ray inside disk j; slide to its end if it covers t
-            ox = gx - prev[j, 0]
-            oy = gy - prev[j, 1]
-            r = prev[j, 2]
-            b = ox * dx + oy * dy
-            disc = b * b - (ox * ox + oy * oy - r * r)
-            if disc > 0.0:
-                s = math.sqrt(disc)
-                if -b - s <= t < -b + s:
-                    t = -b + s
-                    cur[n_cur, 0] = prev[j, 0]
-                    cur[n_cur, 1] = prev[j, 1]
-                    cur[n_cur, 2] = r
-                    n_cur += 1
+            # the stretch of this ray inside disk j; slide to its end if it covers t, stop at
+            # the first disk that does not (the rest lie farther along the previous beam)
+            b = prev[j, 0] * dx + prev[j, 1] * dy
+            disc = b * b - prev[j, 2]
+            if disc <= 0.0:
+                break
+            s = math.sqrt(disc)
+            if not -b - s <= t < -b + s:
+                break
+            t = -b + s
+            cur[n_cur, 0] = prev[j, 0]
+            cur[n_cur, 1] = prev[j, 1]
+            cur[n_cur, 2] = prev[j, 2]
+            n_cur += 1
         t1 = _exit_parameter(gx, gy, dx, dy, w, h, t_end)
         if t >= t1:
             out[i] = t_end
