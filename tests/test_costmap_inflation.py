@@ -246,7 +246,7 @@ def test_window_and_envelope_row_passes_agree_within_the_radius(r):
 @pytest.mark.parametrize("r", [2, 11, 30])
 def test_both_row_passes_give_the_same_costs(r):
     # the kernel's two row passes (chosen by radius in ``inflate``) on the same maps and windows
-    from navcore.costmap.inflation import _buffers, _inflate_kernel, _merge_tables
+    from navcore.costmap.inflation import _buffers, _inflate_kernel, _kernel_table
     rng = np.random.default_rng(40 + r)
     table = cost_table(RES, 0.3 * r * RES, (r - 0.25) * RES, 2.0)
     changed = 0
@@ -258,13 +258,12 @@ def test_both_row_passes_give_the_same_costs(r):
         x0, xn = sorted(int(v) for v in rng.integers(0, w + 1, 2))
         y0, yn = sorted(int(v) for v in rng.integers(0, h + 1, 2))
         sx0, sy0, sxn, syn = max(0, x0 - r), max(0, y0 - r), min(w, xn + r), min(h, yn + r)
-        known, unknown = _merge_tables(table, bool(trial % 2))
         out = []
         for envelope in (False, True):
             c = costs.copy()
             bufs = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, None)
-            _inflate_kernel(c, x0, y0, xn, yn, sx0, sy0, sxn, syn, known, unknown, r, envelope,
-                            *bufs)
+            _inflate_kernel(c, x0, y0, xn, yn, sx0, sy0, sxn, syn, _kernel_table(table),
+                            1 if trial % 2 else INSCRIBED_INFLATED_OBSTACLE, r, envelope, *bufs)
             out.append(c)
         assert np.array_equal(out[0], out[1]), trial
         changed += int((out[0] != costs).sum())

@@ -21,7 +21,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 from numba import njit
 
-from navcore.costmap.cost_values import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE,
+from navcore.costmap.cost_values import (INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE,
                                          NO_INFORMATION)
 from navcore.params import Param, Parameters
 
@@ -187,7 +187,7 @@ def _row_type(r: int) -> type:
 
 @njit(cache=True, nogil=True)
 def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
-                    sxn: int, syn: int, known: np.ndarray, unknown: np.ndarray, r: int,
+                    sxn: int, syn: int, cost_by_d2: np.ndarray, unknown_takes: int, r: int,
                     envelope: bool, g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
     """Write inflated costs into ``costs`` over [x0, xn) x [y0, yn), from the lethal cells of the
     source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius r).
@@ -201,8 +201,8 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     due, and beyond the radius both say "out of reach". Lethal cells outside the source window
     are more than r away from the update window in x or y, so they never matter.
 
-    ``known[d2]`` is the cost at squared distance d2 <= r^2; ``unknown[d2]`` is what an unknown
-    cell becomes (NO_INFORMATION when it stays unknown). ``g`` is a scratch of at least the
+    ``cost_by_d2[d2]`` is the cost at squared distance d2 <= r^2, and 0 (which changes nothing)
+    at r^2 + 1; an unknown cell takes costs from ``unknown_takes`` up. ``g`` is a scratch of at least the
     source window's shape; ``pad`` and ``d2`` are row scratch of the dtype ``_row_type`` gives.
     ``envelope`` picks the row pass (both give the same costs; see ENVELOPE_FROM_RADIUS).
     Squared distances are clamped at r^2 + 1: that changes no value up to r^2 and keeps larger
@@ -214,6 +214,9 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     w = sxn - sx0
     rows = syn - sy0
     far = pad.dtype.type(r2 + 1)
+    beyond = d2.dtype.type(r2 + 1)
+    takes = np.uint8(unknown_takes)
+    unknown = np.uint8(NO_INFORMATION)
     for i in range(r):
         pad[i] = far
         pad[r + w + i] = far
@@ -233,12 +236,15 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
             _row_pass_envelope(padw, ox, nx, r, v, fv, z, d2)
         else:
             _row_pass_window(padw, ox, nx, r, d2)
+        # costs: a scalar lookup alone (branch-free, the only part that cannot vectorise),
+        # then the merge as a vector pass
+        for x in range(nx):
+            d2[x] = cost_by_d2[min(d2[x], beyond)]
         row = costs[y, x0:xn]
         for x in range(nx):
-            dd = d2[x]
-            if dd <= r2:
-                old = row[x]
-                row[x] = unknown[dd] if old == NO_INFORMATION else max(old, known[dd])
+            old = row[x]
+            c = np.uint8(d2[x])
+            row[x] = (c if c >= takes else unknown) if old == unknown else max(old, c)
 
 
 _POOL: ThreadPoolExecutor | None = None
@@ -254,14 +260,21 @@ def _pool(n: int) -> ThreadPoolExecutor:
     return _POOL
 
 
-def _merge_tables(table: np.ndarray, inflate_unknown: bool) -> tuple[np.ndarray, np.ndarray]:
-    """The kernel's ``known`` and ``unknown`` tables: ``table``, and costmap_2d's rule for unknown
-    cells (take the cost only if it is inscribed or lethal, or any nonzero cost with
-    ``inflate_unknown``) folded into a table of its own."""
-    known = table
-    takes = known > FREE_SPACE if inflate_unknown else known >= INSCRIBED_INFLATED_OBSTACLE
-    unknown = np.where(takes, known, np.uint8(NO_INFORMATION)).astype(np.uint8)
-    return known, unknown
+_KERNEL_TABLES: dict = {}  # table bytes -> the kernel's table
+
+
+def _kernel_table(table: np.ndarray) -> np.ndarray:
+    """``table`` (uint8) with a 0 appended for "beyond the radius", remembered (a local costmap
+    inflates every cycle with the same table)."""
+    key = table.tobytes()
+    out = _KERNEL_TABLES.get(key)
+    if out is None:
+        out = np.zeros(len(table) + 1, dtype=np.uint8)
+        out[:-1] = table
+        if len(_KERNEL_TABLES) >= 16:
+            _KERNEL_TABLES.clear()
+        _KERNEL_TABLES[key] = out
+    return out
 
 
 def _buffers(r: int, shape: tuple[int, int], nx: int, old: tuple | None) -> tuple:
@@ -299,7 +312,10 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
     if xn <= x0 or yn <= y0:
         return scratch
     r = int(round(math.sqrt(len(table) - 1)))
-    known, unknown = _merge_tables(table, bool(inflate_unknown))
+    cost_by_d2 = _kernel_table(table)
+    # costmap_2d: an unknown cell takes an inscribed or lethal cost, any nonzero one with
+    # inflate_unknown
+    unknown_takes = 1 if inflate_unknown else INSCRIBED_INFLATED_OBSTACLE
     bands = max(1, min(int(num_threads), (yn - y0) // MIN_ROWS_PER_THREAD))
     edges = [y0 + (yn - y0) * i // bands for i in range(bands + 1)]
     jobs = []
@@ -310,7 +326,7 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
         if len(scratch) <= i:
             scratch.append(None)
         scratch[i] = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, scratch[i])
-        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, known, unknown, r,
+        jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, cost_by_d2, unknown_takes, r,
                      r >= ENVELOPE_FROM_RADIUS) + scratch[i])
     if bands == 1:
         _inflate_kernel(*jobs[0])
