@@ -202,8 +202,9 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
     are more than r away from the update window in x or y, so they never matter.
 
     ``cost_by_d2[d2]`` is the cost at squared distance d2 <= r^2, and 0 (which changes nothing)
-    at r^2 + 1; an unknown cell takes costs from ``unknown_takes`` up. ``g`` is a scratch of at least the
-    source window's shape; ``pad`` and ``d2`` are row scratch of the dtype ``_row_type`` gives.
+    at r^2 + 1; an unknown cell takes costs from ``unknown_takes`` up. ``g`` is a scratch of at
+    least the source window's shape; ``pad`` and ``d2`` are row scratch of the dtype
+    ``_row_type`` gives.
     ``envelope`` picks the row pass (both give the same costs; see ENVELOPE_FROM_RADIUS).
     Squared distances are clamped at r^2 + 1: that changes no value up to r^2 and keeps larger
     ones larger.
