@@ -45,12 +45,15 @@ def _mt_twist(mt: np.ndarray) -> None:
 
 
 @njit(cache=True)
-def _tempered(y: np.uint32) -> np.uint32:
-    y ^= y >> np.uint32(11)
-    y ^= (y << np.uint32(7)) & np.uint32(0x9D2C5680)
-    y ^= (y << np.uint32(15)) & np.uint32(0xEFC60000)
-    y ^= y >> np.uint32(18)
-    return y
+def _temper_all(mt: np.ndarray, out: np.ndarray) -> None:
+    """The reference output tempering of every state word (one pass the compiler vectorises)."""
+    for i in range(_N):
+        y = mt[i]
+        y ^= y >> 11
+        y ^= (y << 7) & 0x9D2C5680
+        y ^= (y << 15) & 0xEFC60000
+        y ^= y >> 18
+        out[i] = y
 
 
 @njit(cache=True)
@@ -58,22 +61,27 @@ def standard_normals(seed: int, n: int) -> np.ndarray:
     """n standard normal draws (float64) of the legacy numpy stream seeded with ``seed``."""
     out = np.empty(n, np.float64)
     mt = _mt_init(seed)
-    words = np.empty(4, np.uint32)
+    words = np.empty(_N, np.uint32)  # tempered output of the current state
     idx = _N  # twist before the first word, as the reference does
     i = 0
     while i < n:
         while True:
             # four words make the two 53-bit doubles x1, x2 of one polar-method attempt
-            for k in range(4):
-                if idx >= _N:
-                    _mt_twist(mt)
-                    idx = 0
-                words[k] = _tempered(mt[idx])
-                idx += 1
-            u1 = ((words[0] >> np.uint32(5)) * 67108864.0
-                  + (words[1] >> np.uint32(6))) / 9007199254740992.0
-            u2 = ((words[2] >> np.uint32(5)) * 67108864.0
-                  + (words[3] >> np.uint32(6))) / 9007199254740992.0
+            if idx + 4 <= _N:
+                a, b, c, d = words[idx], words[idx + 1], words[idx + 2], words[idx + 3]
+                idx += 4
+            else:
+                q = np.empty(4, np.uint32)
+                for k in range(4):
+                    if idx >= _N:
+                        _mt_twist(mt)
+                        _temper_all(mt, words)
+                        idx = 0
+                    q[k] = words[idx]
+                    idx += 1
+                a, b, c, d = q[0], q[1], q[2], q[3]
+            u1 = ((a >> 5) * 67108864.0 + (b >> 6)) / 9007199254740992.0
+            u2 = ((c >> 5) * 67108864.0 + (d >> 6)) / 9007199254740992.0
             x1 = 2.0 * u1 - 1.0
             x2 = 2.0 * u2 - 1.0
             r2 = x1 * x1 + x2 * x2
