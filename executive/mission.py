@@ -366,15 +366,17 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
     periods = {id(global_cm): _update_period(global_cm), id(local_cm): _update_period(local_cm)}
     due = {id(global_cm): -math.inf, id(local_cm): -math.inf}
     phantoms_pending = list(world.phantoms)
+    scans = LazyScans([local_cm, global_cm])
 
     def perceive(pose: Pose2D, scan: LaserScan | None, now: float) -> None:
         if scan is not None and scan is not state.get("scan"):
             state["scan"] = scan
             laser_pose = pose.compose(mount)
-            local_cm.add_scan(scan, laser_pose)
-            global_cm.add_scan(scan, laser_pose)
+            scans.add(local_cm, scan, laser_pose)
+            scans.add(global_cm, scan, laser_pose)
         for cm in (local_cm, global_cm):
             if now >= due[id(cm)]:
+                scans.flush(cm)
                 cm.update_map(pose)
                 due[id(cm)] = now + periods[id(cm)]
         if phantoms_pending:
@@ -384,6 +386,8 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
                            "both": [global_cm, local_cm]}[which]:
                     paint_phantom(cm, shape)
             phantoms_pending.clear()
+            scans.flush(local_cm)
+            scans.flush(global_cm)
             local_cm.update_map(pose)
             global_cm.update_map(pose)
 
@@ -418,6 +422,66 @@ def live_parameters(config: RobotConfig, global_cm: Any, local_cm: Any, planner:
     if localizer is not None and getattr(localizer, "params", None) is not None:
         out["amcl"] = localizer.params
     return out
+
+
+class LazyScans:
+    """Scans for costmaps whose sensor buffers keep only the newest reading and check no reading
+    rate (ROS's defaults): such a costmap only ever uses the last scan before something reads
+    its buffers, so each scan is kept aside and added (converted to points) just before an
+    update or a clear (which recomposes the map at once); a reset forgets it, as it would have
+    cleared it from the buffers. The costmaps end up exactly as with every scan added at once,
+    at the cost of one conversion per update instead of one per scan. Scans are values: nobody
+    changes one after publishing it."""
+
+    def __init__(self, costmaps: list[Any]) -> None:
+        self._unadded: dict[int, tuple[LaserScan, Pose2D]] = {}
+        for cm in costmaps:
+            self._hook(cm)
+
+    def add(self, cm: Any, scan: LaserScan, laser_pose: Pose2D) -> None:
+        """A new scan for ``cm``, taken with the laser at ``laser_pose``."""
+        if (self.newest_only(cm) and math.isfinite(laser_pose.x)
+                and math.isfinite(laser_pose.y)):  # (an unusable pose still fails at once)
+            self._unadded[id(cm)] = (scan, laser_pose)
+        else:
+            self.flush(cm)
+            cm.add_scan(scan, laser_pose)
+
+    def flush(self, cm: Any) -> None:
+        """Add the scan kept aside for ``cm``, if any."""
+        item = self._unadded.pop(id(cm), None)
+        if item is not None:
+            cm.add_scan(*item)
+
+    @staticmethod
+    def newest_only(cm: Any) -> bool:
+        layers = getattr(cm, "obstacle_layers", None)
+        if layers is None:
+            return False
+        for layer in layers():
+            for buf in layer.buffers.values():
+                p = buf.params
+                if p.observation_persistence != 0.0 or p.expected_update_rate != 0.0:
+                    return False
+        return True
+
+    def _hook(self, cm: Any) -> None:
+        if getattr(cm, "obstacle_layers", None) is None:
+            return  # never kept aside (see newest_only)
+        reset, clear_outside, clear_inside = cm.reset_layers, cm.clear_outside, cm.clear_inside
+
+        def reset_layers() -> None:
+            self._unadded.pop(id(cm), None)
+            reset()
+
+        def clearing(clear: Callable[..., None]) -> Callable[..., None]:
+            def call(*args: Any, **kwargs: Any) -> None:
+                self.flush(cm)
+                clear(*args, **kwargs)
+            return call
+        cm.reset_layers = reset_layers
+        cm.clear_outside = clearing(clear_outside)
+        cm.clear_inside = clearing(clear_inside)
 
 
 def _update_period(cm: Any) -> float:
