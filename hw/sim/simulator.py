@@ -179,6 +179,8 @@ class Simulator:
             st[ph.I_YAW] = normalize_angle(start.theta + self.config.imu_mount.theta)
             st[ph.I_NEXT] = 0.0
         self._odom_period_steps = float(lim[ph.L_ODOM_P])
+        self._odom_period = self._odom_period_steps * self._dt  # s, for the twist covariance
+        self._odom_scale = 1.0 / (self._odom_period * self._odom_period)
         self._imu_period_steps = float(lim[ph.L_IMU_P])
         self._normals_left = 0
         self._battery_check_at = -math.inf
@@ -403,10 +405,10 @@ class Simulator:
         v = st.tolist()  # one conversion instead of one per field
         vx, vy, wz = v[ph.OTX], v[ph.OTY], v[ph.OTW]
         a1, a2, a3, a4, a5 = self._alphas
-        period = self._odom_period_steps * self._dt
+        period = self._odom_period
         t2 = (vx * vx + vy * vy) * period * period
         r2 = (wz * period) ** 2
-        scale = 1.0 / (period * period)
+        scale = self._odom_scale
         var_s = (a4 * r2 + a5 * t2) * scale if self._omni else 0.0
         tc = np.zeros((3, 3))
         tc[0, 0] = (a3 * t2 + a4 * r2) * scale + 1e-9
@@ -439,11 +441,14 @@ class Simulator:
 
     def laser_pose(self) -> Pose2D:
         """True pose of the laser frame in ``map``."""
+        return Pose2D(*self._laser_xyt())
+
+    def _laser_xyt(self) -> tuple[float, float, float]:
+        """``laser_pose`` as a plain tuple (no message object on the per-scan path)."""
         x, y, th = self._st[:3].tolist()
         m = self.config.laser.mount
         c, s = math.cos(th), math.sin(th)
-        return Pose2D(x + c * m.x - s * m.y, y + s * m.x + c * m.y,
-                      normalize_angle(th + m.theta))
+        return x + c * m.x - s * m.y, y + s * m.x + c * m.y, normalize_angle(th + m.theta)
 
     def _next_laser_seed(self) -> int:
         """The next per-scan noise seed, drawn from the laser's stream 256 at a time."""
@@ -460,13 +465,13 @@ class Simulator:
                 and self._scan_msg is not None):
             ranges = self._scan_msg.ranges.copy()
         else:
-            p = self.laser_pose()
+            lx, ly, lth = self._laser_xyt()
             seed = self._next_laser_seed() if lc.range_noise_stddev > 0 else 0
             ranges = np.empty(len(self._beams), np.float32)
             w = self.world
             circles, segments = w.shapes_at(now)
-            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, p.x, p.y,
-                        p.theta + lc.angle_min, lc.angle_increment, lc.range_max, circles,
+            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, lx, ly,
+                        lth + lc.angle_min, lc.angle_increment, lc.range_max, circles,
                         segments, lc.range_noise_stddev, seed, self._no_return, ranges)
         self._scan_msg = LaserScan(now, lc.angle_min, lc.angle_max, lc.angle_increment,
                                    lc.time_increment, lc.scan_time, lc.range_min, lc.range_max,
