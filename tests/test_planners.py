@@ -440,3 +440,19 @@ def test_tiled_wavefront_gives_the_same_potential_and_path(kind: str, params: di
                 np.testing.assert_array_equal(a.path.poses, b.path.poses)
                 found += 1
     assert found >= 8
+
+
+def test_cell_coordinates_from_the_reciprocal_match_integer_division() -> None:
+    """A* recovers (x, y) from a cell index with a multiply by 1/width, not a division: it must
+    give exactly divmod's answer, row-major and tiled, up to the largest index of wide maps."""
+    from navcore.planners.wavefront import TILE, _cell_xy, tile_index
+
+    rng = np.random.default_rng(5)
+    for nx in (3, 7, 8, 999, 1000, 1165, 4000, 65_537, 1 << 20):
+        ny = nx
+        ntx = (nx + TILE - 1) // TILE
+        xs = np.concatenate([rng.integers(0, nx, 400), [0, nx - 1]])
+        ys = np.concatenate([rng.integers(0, ny, 400), [ny - 1, 0]])
+        for x, y in zip(xs.tolist(), ys.tolist()):
+            assert _cell_xy(y * nx + x, nx, ntx, False, 1.0 / nx) == (x, y)
+            assert _cell_xy(tile_index(x, y, ntx), nx, ntx, True, 1.0 / ntx) == (x, y)
