@@ -248,16 +248,20 @@ class RecordPoseHistory(Leaf):
 
     def update(self) -> Status:
         pose = self.robot.pose()
-        if self._trail and pose.distance_to(self._trail[-1]) < self.get_input("spacing"):
-            return Status.SUCCESS
-        if self._trail:
-            self._length += pose.distance_to(self._trail[-1])
-        self._trail.append(pose)
+        trail = self._trail
+        if trail:
+            step = pose.distance_to(trail[-1])
+            if step < self.get_input("spacing"):
+                return Status.SUCCESS
+            self._length += step
+        trail.append(pose)
         max_length = self.get_input("max_length")
-        while len(self._trail) > 2 and self._length - self._trail[0].distance_to(self._trail[1]) \
-                >= max_length:
-            self._length -= self._trail[0].distance_to(self._trail[1])
-            self._trail.pop(0)
+        while len(trail) > 2:
+            first = trail[0].distance_to(trail[1])
+            if not self._length - first >= max_length:  # (NaN-safe as the loop condition was)
+                break
+            self._length -= first
+            trail.pop(0)
         self.write("pose_history", list(self._trail))
         return Status.SUCCESS
 

@@ -25,6 +25,9 @@ class StraightPlan:
     reason: str = ""
 
 
+_STEPS = np.linspace(0.0, 1.0, 11)  # fractions of the way along a straight plan
+
+
 class StraightLinePlanner:
     """A planner that returns the straight segment start -> goal (11 poses)."""
 
@@ -33,9 +36,10 @@ class StraightLinePlanner:
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> StraightPlan:
         self.calls += 1
-        t = np.linspace(0.0, 1.0, 11)
-        poses = np.stack([start.x + t * (goal.x - start.x), start.y + t * (goal.y - start.y),
-                          np.full_like(t, goal.theta)], axis=1)
+        poses = np.empty((len(_STEPS), 3))
+        poses[:, 0] = start.x + _STEPS * (goal.x - start.x)
+        poses[:, 1] = start.y + _STEPS * (goal.y - start.y)
+        poses[:, 2] = goal.theta
         return StraightPlan(True, Path(poses))
 
 
