@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from behaviors.base import Leaf, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Status
 from behaviors.error_codes import ControllerError, PlannerError, planner_code
 from navcore.types import Path, Pose2D, Twist
 
@@ -31,7 +31,7 @@ class PlanningAction(Leaf):
         self.write("error_code_id", int(code))
         self.write("error_msg", msg)
         self.say(msg)
-        return Status.FAILURE
+        return FAILURE
 
     def planner(self) -> Any:
         return self.planners.get(self.get_input("planner_id"))
@@ -51,7 +51,7 @@ class PlanningAction(Leaf):
         self.write("path", path)
         self.write("error_code_id", int(PlannerError.NONE))
         self.write("error_msg", "")
-        return Status.SUCCESS
+        return SUCCESS
 
     def start(self) -> Pose2D:
         if self.get_input("use_start"):
@@ -176,7 +176,7 @@ class FollowPath(Leaf):
         self.write("error_code_id", int(code))
         self.write("error_msg", msg)
         self.say(msg)
-        return Status.FAILURE
+        return FAILURE
 
     def update(self) -> Status:
         if self._controller is None:
@@ -195,7 +195,7 @@ class FollowPath(Leaf):
             self.write("error_code_id", int(ControllerError.NONE))
             self.write("error_msg", "")
             self.say("goal reached")
-            return Status.SUCCESS
+            return SUCCESS
         if result.status.startswith("no_valid"):
             tolerance = self.get_input("failure_tolerance")
             if tolerance >= 0.0 and now - self._last_valid >= tolerance:
@@ -205,7 +205,7 @@ class FollowPath(Leaf):
                                        f"({result.status})")
             self.write("cmd_vel", Twist.zero())
             self.say(f"no valid command ({result.status}), trying again")
-            return Status.RUNNING
+            return RUNNING
         self._last_valid = now
         if self._stalled(pose, now):
             return self.fail(ControllerError.FAILED_TO_MAKE_PROGRESS,
@@ -213,7 +213,7 @@ class FollowPath(Leaf):
                              f"{self.get_input('movement_time_allowance')} s")
         self.write("cmd_vel", result.cmd)
         self.say("{}: vx {:.2f} wz {:.2f}", result.status, result.cmd.vx, result.cmd.wz)
-        return Status.RUNNING
+        return RUNNING
 
     def _stalled(self, pose: Pose2D, now: float) -> bool:
         allowance = self.get_input("movement_time_allowance")
@@ -225,7 +225,7 @@ class FollowPath(Leaf):
         return now - self._progress_since > allowance
 
     def terminate(self, new_status: Status) -> None:
-        if new_status == Status.INVALID and self.status == Status.RUNNING:
+        if new_status is INVALID and self.status is RUNNING:
             self.write("cmd_vel", Twist.zero())
 
 
@@ -252,7 +252,7 @@ class RecordPoseHistory(Leaf):
         if trail:
             step = pose.distance_to(trail[-1])
             if step < self.get_input("spacing"):
-                return Status.SUCCESS
+                return SUCCESS
             self._length += step
         trail.append(pose)
         max_length = self.get_input("max_length")
@@ -263,7 +263,7 @@ class RecordPoseHistory(Leaf):
             self._length -= first
             trail.pop(0)
         self.write("pose_history", list(self._trail))
-        return Status.SUCCESS
+        return SUCCESS
 
 
 def trail_length(poses: list[Pose2D]) -> float:
@@ -288,7 +288,7 @@ class _Selector(Leaf):
         chosen = self.read("requested") or self.get_input(self.DEFAULT_PORT)
         self.write(self.OUTPUT_PORT, chosen)
         self.say(f"selected '{chosen}'")
-        return Status.SUCCESS
+        return SUCCESS
 
 
 class PlannerSelector(_Selector):

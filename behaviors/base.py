@@ -26,7 +26,11 @@ from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_por
 
 __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "PortInformation", "Status",
            "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable",
-           "tick_child", "tick_observed"]
+           "tick_child", "tick_observed", "RUNNING", "SUCCESS", "FAILURE", "INVALID"]
+
+# Status members as module constants, compared by identity: ``Status.RUNNING`` is a slow
+# class-attribute look-up on an Enum and Enum ``==`` a Python-level call; ticks do many of both.
+RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAILURE, Status.INVALID
 
 _MISSING = object()
 _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds every key
@@ -222,13 +226,13 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
     """
 
     def tick_now(self) -> None:
-        if self.status is not Status.RUNNING:
+        if self.status is not RUNNING:
             self.initialise()
         new_status = self.update()
         if new_status.__class__ is not Status:  # no set look-up: Enum hashes in Python
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
-            new_status = Status.INVALID
-        if new_status is not Status.RUNNING:
+            new_status = INVALID
+        if new_status is not RUNNING:
             self.stop(new_status)
         self.status = new_status
         if _observer is not None:
@@ -256,7 +260,7 @@ class Control(NavNode, py_trees.composites.Composite):
 
     def _finish(self, status: Status) -> None:
         """Set the final status of this tick, stopping self (and so children) when not RUNNING."""
-        if status is not Status.RUNNING:
+        if status is not RUNNING:
             self.stop(status)
         self.status = status
         if _observer is not None:
@@ -265,15 +269,15 @@ class Control(NavNode, py_trees.composites.Composite):
     def halt_children(self, start: int = 0) -> None:
         """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
         for child in self.children[start:]:
-            if child.status != Status.INVALID:
-                child.stop(Status.INVALID)
+            if child.status is not INVALID:
+                child.stop(INVALID)
 
-    def stop(self, new_status: Status = Status.INVALID) -> None:
+    def stop(self, new_status: Status = INVALID) -> None:
         # Unlike py_trees (which keeps finished children for introspection), BT.CPP halts every
         # child when a control node finishes: a later run must start them afresh.
         # py_trees' Composite.stop less its debug formatting (a large part of a tick's cost).
         self.halt_children()
-        if new_status is Status.INVALID:
+        if new_status is INVALID:
             self.current_child = None
         self.terminate(new_status)
         self.status = new_status
@@ -291,7 +295,7 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
         super().__init__(name=name, child=child, **kwargs)
 
     def _finish(self, status: Status) -> None:
-        if status is not Status.RUNNING:
+        if status is not RUNNING:
             self.stop(status)
         self.status = status
         if _observer is not None:
@@ -302,10 +306,10 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
         return self.decorated.status
 
     def halt_child(self) -> None:
-        if self.decorated.status != Status.INVALID:
-            self.decorated.stop(Status.INVALID)
+        if self.decorated.status is not INVALID:
+            self.decorated.stop(INVALID)
 
-    def stop(self, new_status: Status = Status.INVALID) -> None:
+    def stop(self, new_status: Status = INVALID) -> None:
         self.terminate(new_status)
         self.halt_child()
         self.status = new_status

@@ -12,14 +12,14 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from behaviors.base import Leaf, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, SUCCESS, Leaf, PortInformation, Status
 from behaviors.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from navcore.types import Path, Pose2D
 
 
 def _yes(flag: bool) -> Status:
-    return Status.SUCCESS if flag else Status.FAILURE
+    return SUCCESS if flag else FAILURE
 
 
 class Condition(Leaf):
@@ -54,7 +54,7 @@ class GoalReached(Condition):
         goal = self.read("goal")
         if goal is None:
             self.say("no goal")
-            return Status.FAILURE
+            return FAILURE
         d = self.pose().distance_to(goal)
         self.say("{:.2f} m from the goal", d)
         return _yes(d <= self.get_input("goal_reached_tol"))
@@ -72,9 +72,9 @@ class GoalUpdated(Condition):
 
     def update(self) -> Status:
         goal = self.read("goal")
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._seen = goal
-            return Status.FAILURE
+            return FAILURE
         changed = goal != self._seen
         self._seen = goal
         if changed:
@@ -105,7 +105,7 @@ class IsPathValid(Condition):
         path = self.read("path")
         if path is None or len(path) == 0:
             self.say("no path")
-            return Status.FAILURE
+            return FAILURE
         grid = self.costmap.costmap
         max_cost = self.get_input("max_cost")
         unknown_blocks = self.get_input("consider_unknown_as_obstacle")
@@ -118,8 +118,8 @@ class IsPathValid(Condition):
                 continue
             if cost > max_cost:
                 self.say(f"path blocked at ({x:.2f}, {y:.2f}), cost {cost}")
-                return Status.FAILURE
-        return Status.SUCCESS
+                return FAILURE
+        return SUCCESS
 
 
 class _ProgressWindow:
@@ -152,7 +152,7 @@ class IsStuck(Condition):
 
     def update(self) -> Status:
         now, pose = self.clock.now(), self.pose()
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._window = _ProgressWindow()
             self._window.reset(pose, now)
         stuck = self._window.stalled(pose, now, self.get_input("required_movement_radius"),
@@ -192,7 +192,7 @@ class IsOscillating(Condition):
         self._last_tick = now
         timeout = self.get_input("oscillation_timeout")
         if timeout <= 0.0:
-            return Status.FAILURE
+            return FAILURE
         osc = self._window.stalled(pose, now, self.get_input("oscillation_distance"), timeout)
         if osc:
             self.say(f"oscillating: moved < {self.get_input('oscillation_distance')} m "
@@ -219,7 +219,7 @@ class IsLocalized(Condition):
     def update(self) -> Status:
         if self.localizer is None:
             self.say("no localiser: ground truth")
-            return Status.SUCCESS
+            return SUCCESS
         cov = np.asarray(self.localizer.covariance(), dtype=float)
         sx, sy, st = (math.sqrt(max(0.0, float(cov[i, i]))) for i in range(3))
         self.say("std x {:.2f} y {:.2f} yaw {:.2f}", sx, sy, st)
@@ -241,7 +241,7 @@ class IsBatteryLow(Condition):
         state = self.robot.battery() if self.robot is not None else None
         if state is None:
             self.say("no battery state")
-            return Status.FAILURE
+            return FAILURE
         value = state.voltage if self.get_input("is_voltage") else state.percentage
         return _yes(value <= self.get_input("min_battery"))
 
@@ -254,13 +254,13 @@ class TimeExpired(Condition):
 
     def update(self) -> Status:
         now = self.clock.now()
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._start = now
-            return Status.FAILURE
+            return FAILURE
         if now - self._start >= self.get_input("seconds") - 1e-9:  # float sums of periods
             self._start = now
-            return Status.SUCCESS
-        return Status.FAILURE
+            return SUCCESS
+        return FAILURE
 
 
 class DistanceTraveled(Condition):
@@ -272,13 +272,13 @@ class DistanceTraveled(Condition):
 
     def update(self) -> Status:
         pose = self.pose()
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._anchor = pose
-            return Status.FAILURE
+            return FAILURE
         if pose.distance_to(self._anchor) >= self.get_input("distance"):
             self._anchor = pose
-            return Status.SUCCESS
-        return Status.FAILURE
+            return SUCCESS
+        return FAILURE
 
 
 def length_to_go(poses: np.ndarray) -> np.ndarray:
@@ -328,7 +328,7 @@ class IsGoalNearby(Condition):
     def update(self) -> Status:
         path = self.read("path")
         if path is None:
-            return Status.FAILURE
+            return FAILURE
         if path is not getattr(self, "_path", None):  # a new plan: sum its lengths once
             self._path, self._to_go = path, length_to_go(path.poses)
         left = remaining_length(path, self.pose(), self._to_go)
@@ -344,7 +344,7 @@ class _WouldRecoveryHelp(Condition):
         code = self.read("error_code")
         if code is None:
             self.say("no error code yet")
-            return Status.FAILURE
+            return FAILURE
         helps = int(code) in self.get_input("error_codes_to_check")
         self.say(f"error code {code}: a recovery {'may' if helps else 'would not'} help")
         return _yes(helps)
@@ -395,7 +395,7 @@ class AlwaysSuccess(Leaf):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def update(self) -> Status:
-        return Status.SUCCESS
+        return SUCCESS
 
 
 class AlwaysFailure(Leaf):
@@ -405,4 +405,4 @@ class AlwaysFailure(Leaf):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def update(self) -> Status:
-        return Status.FAILURE
+        return FAILURE

@@ -11,7 +11,8 @@ from typing import Any, ClassVar
 
 import py_trees
 
-from behaviors.base import Control, PortInformation, Status, tick_child
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, PortInformation, Status,
+                            tick_child)
 
 Behaviour = py_trees.behaviour.Behaviour
 
@@ -34,16 +35,16 @@ class _InOrder(Control):
         self._index = 0
 
     def tick_now(self) -> None:
-        if not self.MEMORY and self.status != Status.RUNNING:
+        if not self.MEMORY and self.status is not RUNNING:
             self._index = 0
         while self._index < len(self.children):
             child = self.children[self._index]
             self.current_child = child
             tick_child(child)
-            if child.status == Status.RUNNING:
-                self._finish(Status.RUNNING)
+            if child.status is RUNNING:
+                self._finish(RUNNING)
                 return
-            if child.status == self.STOP_ON:
+            if child.status is self.STOP_ON:
                 if not self.MEMORY:
                     self._index = 0
                 self._finish(self.STOP_ON)
@@ -68,11 +69,11 @@ class _Reactive(Control):
         for i, child in enumerate(self.children):
             self.current_child = child
             tick_child(child)
-            if child.status == Status.RUNNING:
+            if child.status is RUNNING:
                 self.halt_children(i + 1)
-                self._finish(Status.RUNNING)
+                self._finish(RUNNING)
                 return
-            if child.status == self.STOP_ON:
+            if child.status is self.STOP_ON:
                 self._finish(self.STOP_ON)
                 return
         self._finish(self.ALL_DONE)
@@ -87,7 +88,7 @@ class Sequence(_InOrder):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
+    STOP_ON, ALL_DONE = FAILURE, SUCCESS
 
 
 class SequenceWithMemory(_InOrder):
@@ -98,7 +99,7 @@ class SequenceWithMemory(_InOrder):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
+    STOP_ON, ALL_DONE = FAILURE, SUCCESS
     MEMORY = True
 
 
@@ -111,7 +112,7 @@ class ReactiveSequence(_Reactive):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    STOP_ON, ALL_DONE = Status.FAILURE, Status.SUCCESS
+    STOP_ON, ALL_DONE = FAILURE, SUCCESS
 
 
 class Fallback(_InOrder):
@@ -122,7 +123,7 @@ class Fallback(_InOrder):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    STOP_ON, ALL_DONE = Status.SUCCESS, Status.FAILURE
+    STOP_ON, ALL_DONE = SUCCESS, FAILURE
 
 
 class ReactiveFallback(_Reactive):
@@ -134,7 +135,7 @@ class ReactiveFallback(_Reactive):
 
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    STOP_ON, ALL_DONE = Status.SUCCESS, Status.FAILURE
+    STOP_ON, ALL_DONE = SUCCESS, FAILURE
 
 
 class Parallel(Control):
@@ -155,23 +156,23 @@ class Parallel(Control):
         return len(self.children) if n < 0 else min(n, len(self.children))
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._done: dict[int, Status] = {}
         need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
         for i, child in enumerate(self.children):
             if i in self._done:
                 continue
             tick_child(child)
-            if child.status in (Status.SUCCESS, Status.FAILURE):
+            if child.status is SUCCESS or child.status is FAILURE:
                 self._done[i] = child.status
-        successes = sum(1 for s in self._done.values() if s == Status.SUCCESS)
+        successes = sum(1 for s in self._done.values() if s is SUCCESS)
         failures = len(self._done) - successes
         if successes >= need_success:
-            self._finish(Status.SUCCESS)
+            self._finish(SUCCESS)
         elif failures >= need_failure or len(self._done) == len(self.children):
-            self._finish(Status.FAILURE)
+            self._finish(FAILURE)
         else:
-            self._finish(Status.RUNNING)
+            self._finish(RUNNING)
 
 
 class PipelineSequence(Control):
@@ -189,21 +190,21 @@ class PipelineSequence(Control):
         self._last = 0
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._last = 0
         for i, child in enumerate(self.children):
             self.current_child = child
             tick_child(child)
-            if child.status == Status.FAILURE:
+            if child.status is FAILURE:
                 self._last = 0
-                self._finish(Status.FAILURE)
+                self._finish(FAILURE)
                 return
-            if child.status == Status.RUNNING and i >= self._last:
+            if child.status is RUNNING and i >= self._last:
                 self._last = i
-                self._finish(Status.RUNNING)
+                self._finish(RUNNING)
                 return
         self._last = 0
-        self._finish(Status.SUCCESS)
+        self._finish(SUCCESS)
 
 
 class RecoveryNode(Control):
@@ -260,7 +261,7 @@ class RecoveryNode(Control):
             self.say("main child recovered: recoveries start again")
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._retries, self._index = 0, 0
         limit = self.get_input("number_of_retries")
         main, recovery = self.children
@@ -268,30 +269,30 @@ class RecoveryNode(Control):
             if self._index == 0:
                 self.current_child = main
                 tick_child(main)
-                if main.status == Status.RUNNING:
+                if main.status is RUNNING:
                     self._maybe_reset(recovery)
-                    self._finish(Status.RUNNING)
+                    self._finish(RUNNING)
                     return
-                if main.status == Status.SUCCESS:
-                    self._finish(Status.SUCCESS)
+                if main.status is SUCCESS:
+                    self._finish(SUCCESS)
                     return
                 if self._retries >= limit:
                     self.say(f"main child failed after {self._retries} recoveries")
-                    self._finish(Status.FAILURE)
+                    self._finish(FAILURE)
                     return
-                main.stop(Status.INVALID)
+                main.stop(INVALID)
                 self._index = 1
             else:
                 self.current_child = recovery
                 tick_child(recovery)
-                if recovery.status == Status.RUNNING:
-                    self._finish(Status.RUNNING)
+                if recovery.status is RUNNING:
+                    self._finish(RUNNING)
                     return
-                if recovery.status == Status.FAILURE:
+                if recovery.status is FAILURE:
                     self.say(f"recovery {self._retries + 1} failed")
-                    self._finish(Status.FAILURE)
+                    self._finish(FAILURE)
                     return
-                recovery.stop(Status.INVALID)
+                recovery.stop(INVALID)
                 self._retries += 1
                 self._since = self._clock.now() if self._clock is not None else 0.0
                 self.say(f"recovery {self._retries} of {limit} done, retrying")
@@ -329,22 +330,22 @@ class RoundRobin(Control):
         if self._index >= n:  # the last child succeeded last time and there is no wrap
             self._index, self._failed = 0, 0
             self.say("every child attempted")
-            self._finish(Status.FAILURE)
+            self._finish(FAILURE)
             return
         while self._failed < n:
             child = self.children[self._index]
             self.current_child = child
             tick_child(child)
-            if child.status == Status.RUNNING:
-                self._finish(Status.RUNNING)
+            if child.status is RUNNING:
+                self._finish(RUNNING)
                 return
             self._index += 1
             exhausted = self._index == n
             if exhausted and wrap:
                 self._index = 0
-            if child.status == Status.SUCCESS:
+            if child.status is SUCCESS:
                 self._failed = 0
-                self._finish(Status.SUCCESS)
+                self._finish(SUCCESS)
                 return
             self._failed += 1
             if exhausted and not wrap:
@@ -352,11 +353,11 @@ class RoundRobin(Control):
         self._failed = 0
         self._index = self._index % n if wrap else 0
         self.say("every child attempted")
-        self._finish(Status.FAILURE)
+        self._finish(FAILURE)
 
     def terminate(self, new_status: Status) -> None:
         # Interrupted while running (goal change, parent halted): forget the position.
-        if new_status == Status.INVALID and self.status == Status.RUNNING:
+        if new_status is INVALID and self.status is RUNNING:
             self._index, self._failed = 0, 0
 
     def new_run(self) -> None:
@@ -381,20 +382,20 @@ class IfThenElse(Control):
         self._branch = 0
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._branch = 0
         if self._branch == 0:
             cond = self.children[0]
             tick_child(cond)
-            if cond.status == Status.RUNNING:
-                self._finish(Status.RUNNING)
+            if cond.status is RUNNING:
+                self._finish(RUNNING)
                 return
-            if cond.status == Status.SUCCESS:
+            if cond.status is SUCCESS:
                 self._branch = 1
             elif len(self.children) == 3:
                 self._branch = 2
             else:
-                self._finish(Status.FAILURE)
+                self._finish(FAILURE)
                 return
         branch = self.children[self._branch]
         self.current_child = branch

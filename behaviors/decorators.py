@@ -11,7 +11,8 @@ from typing import Any, ClassVar
 
 import py_trees
 
-from behaviors.base import DecoratorNode, PortInformation, Status, tick_child
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, DecoratorNode, PortInformation,
+                            Status, tick_child)
 from navcore.types import Pose2D
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -38,9 +39,9 @@ class Inverter(_Passthrough):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def convert(self, status: Status) -> Status:
-        if status is Status.SUCCESS:  # comparisons, not a dict: Enum hashes in Python
-            return Status.FAILURE
-        return Status.SUCCESS if status is Status.FAILURE else status
+        if status is SUCCESS:  # comparisons, not a dict: Enum hashes in Python
+            return FAILURE
+        return SUCCESS if status is FAILURE else status
 
 
 class ForceSuccess(_Passthrough):
@@ -50,7 +51,7 @@ class ForceSuccess(_Passthrough):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def convert(self, status: Status) -> Status:
-        return Status.RUNNING if status == Status.RUNNING else Status.SUCCESS
+        return RUNNING if status is RUNNING else SUCCESS
 
 
 class ForceFailure(_Passthrough):
@@ -60,7 +61,7 @@ class ForceFailure(_Passthrough):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def convert(self, status: Status) -> Status:
-        return Status.RUNNING if status == Status.RUNNING else Status.FAILURE
+        return RUNNING if status is RUNNING else FAILURE
 
 
 class _Rerun(DecoratorNode):
@@ -74,17 +75,17 @@ class _Rerun(DecoratorNode):
     FEEDBACK: ClassVar[str]  # said at each counted run: {n} runs so far, {limit}
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._count = 0
         tick_child(self.decorated)
         status = self.decorated.status
-        if status == self.RERUN_ON:
+        if status is self.RERUN_ON:
             self._count += 1
             limit = self.get_input(self.LIMIT_PORT)
             self.say(self.FEEDBACK.format(n=self._count, limit=limit))
             if limit < 0 or self._count < limit:
-                self.decorated.stop(Status.INVALID)
-                status = Status.RUNNING
+                self.decorated.stop(INVALID)
+                status = RUNNING
         self._finish(status)
 
 
@@ -98,7 +99,7 @@ class RetryUntilSuccessful(_Rerun):
 
     INPUT_PORTS = {"num_attempts": PortInformation(int, False, "attempts in all; -1 = forever", 1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    RERUN_ON, LIMIT_PORT = Status.FAILURE, "num_attempts"
+    RERUN_ON, LIMIT_PORT = FAILURE, "num_attempts"
     FEEDBACK = "attempt {n} of {limit} failed"
 
 
@@ -110,7 +111,7 @@ class Repeat(_Rerun):
 
     INPUT_PORTS = {"num_cycles": PortInformation(int, False, "successful runs; -1 = forever", 1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
-    RERUN_ON, LIMIT_PORT = Status.SUCCESS, "num_cycles"
+    RERUN_ON, LIMIT_PORT = SUCCESS, "num_cycles"
     FEEDBACK = "cycle {n} of {limit} done"
 
 
@@ -123,9 +124,9 @@ class KeepRunningUntilFailure(DecoratorNode):
     def tick_now(self) -> None:
         tick_child(self.decorated)
         status = self.decorated.status
-        if status == Status.SUCCESS:
-            self.decorated.stop(Status.INVALID)
-            status = Status.RUNNING
+        if status is SUCCESS:
+            self.decorated.stop(INVALID)
+            status = RUNNING
         self._finish(status)
 
 
@@ -150,11 +151,11 @@ class Timeout(_Timed):
 
     def tick_now(self) -> None:
         now = self.clock.now()
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._deadline = now + self.get_input("msec") / 1000.0
         if now >= self._deadline:
             self.say("timed out")
-            self._finish(Status.FAILURE)
+            self._finish(FAILURE)
             return
         tick_child(self.decorated)
         self._finish(self.decorated.status)
@@ -168,11 +169,11 @@ class Delay(_Timed):
 
     def tick_now(self) -> None:
         now = self.clock.now()
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._start_at = now + self.get_input("delay_msec") / 1000.0
         if now < self._start_at:
             self.say("waiting {:.2f} s", self._start_at - now)
-            self._finish(Status.RUNNING)
+            self._finish(RUNNING)
             return
         tick_child(self.decorated)
         self._finish(self.decorated.status)
@@ -192,14 +193,14 @@ class RateController(_Timed):
     def tick_now(self) -> None:
         now = self.clock.now()
         hz = self.get_input("hz")
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._last_ok = -math.inf
-            self._last_status = Status.INVALID
+            self._last_status = INVALID
         due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
-        if (self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due):
+        if (self._last_status is INVALID or self.decorated.status is RUNNING or due):
             tick_child(self.decorated)
             self._last_status = self.decorated.status
-            if self._last_status == Status.SUCCESS:
+            if self._last_status is SUCCESS:
                 self._last_ok = now
         self._finish(self._last_status)
 
@@ -225,14 +226,14 @@ class DistanceController(_UsesRobot):
 
     def tick_now(self) -> None:
         pose = self.robot.pose()
-        if self.status == Status.INVALID:
-            self._last_status = Status.INVALID
+        if self.status is INVALID:
+            self._last_status = INVALID
             self._anchor = pose
         far = pose.distance_to(self._anchor) >= self.get_input("distance")
-        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or far:
+        if self._last_status is INVALID or self.decorated.status is RUNNING or far:
             tick_child(self.decorated)
             self._last_status = self.decorated.status
-            if self._last_status == Status.SUCCESS:
+            if self._last_status is SUCCESS:
                 self._anchor = pose
         self._finish(self._last_status)
 
@@ -262,13 +263,13 @@ class SpeedController(_UsesRobot):
         now = self.clock.now()
         v = self.robot.velocity()
         rate = self.rate(math.hypot(v.vx, v.vy))
-        if self.status == Status.INVALID:
-            self._last_status, self._last_ok = Status.INVALID, -math.inf
+        if self.status is INVALID:
+            self._last_status, self._last_ok = INVALID, -math.inf
         due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
-        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or due:
+        if self._last_status is INVALID or self.decorated.status is RUNNING or due:
             tick_child(self.decorated)
             self._last_status = self.decorated.status
-            if self._last_status == Status.SUCCESS:
+            if self._last_status is SUCCESS:
                 self._last_ok = now
         self._finish(self._last_status)
 
@@ -283,13 +284,13 @@ class SingleTrigger(DecoratorNode):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def tick_now(self) -> None:
-        if self.status == Status.INVALID:
+        if self.status is INVALID:
             self._fired = False
-        if self._fired and self.decorated.status != Status.RUNNING:
-            self._finish(Status.FAILURE)
+        if self._fired and self.decorated.status is not RUNNING:
+            self._finish(FAILURE)
             return
         tick_child(self.decorated)
-        if self.decorated.status != Status.RUNNING:
+        if self.decorated.status is not RUNNING:
             self._fired = True
         self._finish(self.decorated.status)
 
@@ -331,12 +332,12 @@ class GoalUpdatedController(DecoratorNode):
 
     def tick_now(self) -> None:
         goal = self.read("goal")
-        if self.status == Status.INVALID:
-            self._last_status, self._goal = Status.INVALID, goal
+        if self.status is INVALID:
+            self._last_status, self._goal = INVALID, goal
         changed = goal != self._goal
         self._goal = goal
-        if self._last_status == Status.INVALID or self.decorated.status == Status.RUNNING or changed:
-            if changed and self.decorated.status == Status.RUNNING:
+        if self._last_status is INVALID or self.decorated.status is RUNNING or changed:
+            if changed and self.decorated.status is RUNNING:
                 self.halt_child()  # restart the child for the new goal
             tick_child(self.decorated)
             self._last_status = self.decorated.status

@@ -8,7 +8,7 @@ from typing import Any
 import py_trees
 import yaml
 
-from behaviors.base import DecoratorNode, PortInformation, Status, tick_child
+from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, tick_child
 from behaviors.error_codes import BehaviorError
 from navcore.params import ParameterError
 
@@ -63,14 +63,14 @@ class SetParameters(DecoratorNode):
         return ""
 
     def tick_now(self) -> None:
-        if self.status != Status.RUNNING:
+        if self.status is not RUNNING:
             self._put_back()
             problem = self._apply()
             if problem:
                 self.write("error_msg", problem)
                 self.say(problem)
                 if self.get_input("required"):
-                    self._finish(Status.FAILURE)
+                    self._finish(FAILURE)
                     return
         tick_child(self.decorated)
         self._finish(self.decorated.status)

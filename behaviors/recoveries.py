@@ -15,7 +15,7 @@ from typing import Any, Iterable
 import numpy as np
 
 from behaviors.actions import heading_to
-from behaviors.base import Leaf, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Status
 from behaviors.clearance import clearances
 from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
@@ -140,7 +140,7 @@ class Recovery(Leaf):
             self.write("cmd_vel", Twist.zero())
 
     def terminate(self, new_status: Status) -> None:
-        if self.status == Status.RUNNING or new_status != Status.INVALID:
+        if self.status is RUNNING or new_status is not INVALID:
             self.stop_motion()
 
 
@@ -160,16 +160,16 @@ class _Clear(Recovery):
         which = self.get_input("costmap")
         if which not in COSTMAP_CHOICES:
             self.say(f"costmap must be one of {COSTMAP_CHOICES}, got {which!r}")
-            return Status.FAILURE
+            return FAILURE
         handles = self.costmap_handles(which)
         if not handles:
             self.say(f"no {which} costmap was set up")
-            return Status.FAILURE
+            return FAILURE
         pose = self.robot.pose() if self.robot is not None else None
         for h in handles:
             self.clear(h, pose)
         self.say(f"cleared {which}")
-        return Status.SUCCESS
+        return SUCCESS
 
 
 class ClearEntireCostmap(_Clear):
@@ -226,9 +226,9 @@ class Wait(Recovery):
     def update(self) -> Status:
         left = self._until - self.clock.now()
         if left <= 1e-9:
-            return Status.SUCCESS
+            return SUCCESS
         self.say("{:.1f} s left", left)
-        return Status.RUNNING
+        return RUNNING
 
 
 class ReinitializeGlobalLocalization(Recovery):
@@ -246,10 +246,10 @@ class ReinitializeGlobalLocalization(Recovery):
     def update(self) -> Status:
         if self.localizer is None:
             self.say("no localiser to reinitialise")
-            return Status.FAILURE
+            return FAILURE
         self.localizer.global_localization()
         self.say("particles spread over the free space")
-        return Status.SUCCESS
+        return SUCCESS
 
 
 class GlobalLocalization(ReinitializeGlobalLocalization):
@@ -297,12 +297,12 @@ class Spin(Recovery):
         if remaining <= self.get_input("yaw_goal_tolerance"):
             self.stop_motion()
             self.report(BehaviorError.NONE, f"turned {self._turned:.2f} rad")
-            return Status.SUCCESS
+            return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, f"time out after {self._turned:.2f} of "
                                                f"{abs(target):.2f} rad")
-            return Status.FAILURE
+            return FAILURE
         acc = self.get_input("rotational_acc_lim")
         w = math.sqrt(2.0 * acc * remaining)
         w = min(max(w, self.get_input("min_rotational_vel")), self.get_input("max_rotational_vel"))
@@ -318,11 +318,11 @@ class Spin(Recovery):
                 self.stop_motion()
                 self.report(BehaviorError.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
-                return Status.FAILURE
+                return FAILURE
         self._w = sign * w
         self.write("cmd_vel", Twist(0.0, 0.0, self._w))
         self.say("turned {:.2f} of {:.2f} rad", self._turned, abs(target))
-        return Status.RUNNING
+        return RUNNING
 
 
 class DriveOnHeading(Recovery):
@@ -357,18 +357,18 @@ class DriveOnHeading(Recovery):
             self.stop_motion()
             self.report(BehaviorError.INVALID_INPUT, f"distance {dist} and speed {speed} must be "
                                                      f"non-zero with the same sign")
-            return Status.FAILURE
+            return FAILURE
         pose = self.robot.pose()
         travelled = pose.distance_to(self._start_pose)
         remaining = abs(dist) - travelled
         if remaining <= 1e-3:
             self.stop_motion()
             self.report(BehaviorError.NONE, f"drove {travelled:.2f} m")
-            return Status.SUCCESS
+            return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, f"time out after {travelled:.2f} m")
-            return Status.FAILURE
+            return FAILURE
         direction = 1.0 if dist > 0.0 else -1.0
         v = min(abs(speed), remaining / self.control_period)
         if not self.get_input("disable_collision_checks"):
@@ -381,10 +381,10 @@ class DriveOnHeading(Recovery):
                 self.stop_motion()
                 self.report(BehaviorError.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
-                return Status.FAILURE
+                return FAILURE
         self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
         self.say("drove {:.2f} of {:.2f} m", travelled, abs(dist))
-        return Status.RUNNING
+        return RUNNING
 
 
 class BackUp(DriveOnHeading):
@@ -582,7 +582,7 @@ class TemporaryGoal(Recovery):
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "time out")
-            return Status.FAILURE
+            return FAILURE
         if self._goal is None:
             return self._search(pose)
         return self._drive(pose)
@@ -602,19 +602,19 @@ class TemporaryGoal(Recovery):
             if goal is not None:
                 self._own = self._arc_mode = True  # one arc: our own checked motion, no planner
                 self._chosen(pose, goal, "one arc away")
-                return Status.RUNNING
+                return RUNNING
         if self._candidates is None:
             self._candidates = self._rank(pose)
         planner = self.planners.get(self.get_input("planner_id"))
         controller = self.controllers.get(self.get_input("controller_id"))
         if planner is None or controller is None:
             self.report(BehaviorError.INVALID_INPUT, "unknown planner or controller id")
-            return Status.FAILURE
+            return FAILURE
         for _ in range(self.get_input("max_plans_per_tick")):
             if not self._candidates:
                 self.stop_motion()
                 self.report(BehaviorError.NO_FREE_POSE, "no reachable free pose nearby")
-                return Status.FAILURE
+                return FAILURE
             cand = self._candidates.pop(0)
             result = planner.make_plan(pose, cand)
             if result.ok and result.path is not None and len(result.path) > 0:
@@ -623,7 +623,7 @@ class TemporaryGoal(Recovery):
                 controller.set_plan(result.path)
                 self._chosen(pose, cand, "by plan")
                 break
-        return Status.RUNNING
+        return RUNNING
 
     def _drive(self, pose: Pose2D) -> Status:
         assert self._goal is not None
@@ -636,11 +636,11 @@ class TemporaryGoal(Recovery):
         if reached:
             self.stop_motion()
             self.report(BehaviorError.NONE, "reached the temporary goal")
-            return Status.SUCCESS
+            return SUCCESS
         if self.no_progress(pose):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
-            return Status.FAILURE
+            return FAILURE
         if result is not None and not result.status.startswith("no_valid"):
             cmd = result.cmd
         else:
@@ -660,18 +660,18 @@ class TemporaryGoal(Recovery):
                 self._goal, self._arcs_tried, self._arc_mode = None, False, False
                 self.stop_motion()
                 self.say("arc blocked; searching again")
-                return Status.RUNNING
+                return RUNNING
             if own is None:
                 self.stop_motion()
                 why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
                 status = result.status if result is not None else "one arc"
                 self.report(BehaviorError.COLLISION_AHEAD, f"controller: {status}; {why}")
-                return Status.FAILURE
+                return FAILURE
             self._own, cmd = True, own
         self.write("cmd_vel", cmd)
         self.say("{:.2f} m to the temporary goal" + (" (own pursuit)" if self._own else ""),
                  pose.distance_to(self._goal))
-        return Status.RUNNING
+        return RUNNING
 
     def terminate(self, new_status: Status) -> None:
         super().terminate(new_status)
@@ -747,17 +747,17 @@ class BackOffToPreviousPose(Recovery):
         if not self._trail:
             self.stop_motion()
             self.report(BehaviorError.NO_POSE_HISTORY, "no trail to back off along")
-            return Status.FAILURE
+            return FAILURE
         target = self._trail[-1]
         if pose.distance_to(target) <= self.get_input("xy_goal_tolerance"):
             self.stop_motion()
             self.report(BehaviorError.NONE, "back at the previous pose")
-            return Status.SUCCESS
+            return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance") \
                 or self.no_progress(pose):
             self.stop_motion()
             self.report(BehaviorError.TIMEOUT, "time out or no progress")
-            return Status.FAILURE
+            return FAILURE
         cmd, self._i, hit = self.pursue(pose, self._trail, self._i, target,
                                         self.get_input("speed"), self.get_input("lookahead"),
                                         self.get_input("max_rotational_vel"))
@@ -766,8 +766,8 @@ class BackOffToPreviousPose(Recovery):
             self.stop_motion()
             self.report(BehaviorError.COLLISION_AHEAD,
                         f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
-            return Status.FAILURE
+            return FAILURE
         self.write("cmd_vel", cmd)
         self.say("{:.2f} m to the previous pose (heading {:.2f})", pose.distance_to(target),
                  heading_to(pose, target))
-        return Status.RUNNING
+        return RUNNING

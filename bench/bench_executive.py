@@ -28,6 +28,7 @@ def tree_overhead(tree_path: str, steps: int = 2000) -> float:
     from executive.executive import Executive, _mission_ids
     from executive.loading import load_tree_file
     from executive.noop import KinematicRobot, noop_components
+    from behaviors.base import FAILURE, SUCCESS
     ns = f"/bench_{next(_mission_ids)}"
     tree = load_tree_file(tree_path, namespace=ns)
     robot = KinematicRobot()
@@ -40,7 +41,7 @@ def tree_overhead(tree_path: str, steps: int = 2000) -> float:
     t0 = time.perf_counter()
     for i in range(steps):
         status = ex.step()
-        if status.name in ("SUCCESS", "FAILURE"):
+        if status is SUCCESS or status is FAILURE:
             k += 1
             ex.set_goal(goals[k % 2])
     dt = time.perf_counter() - t0
@@ -53,6 +54,7 @@ def real_cycle(steps: int = 300) -> float:
     from executive.loading import shipped_tree
     from executive.mission import World, build_mission
     from executive.scenario import load_scenario, scenario_config
+    from behaviors.base import FAILURE, SUCCESS
     s = load_scenario(os.path.join(os.path.dirname(HERE), "executive", "data", "demo.yaml"))
     config = scenario_config(s)
     world = World(s.objects, s.moving, s.phantoms, s.faults)
@@ -66,7 +68,7 @@ def real_cycle(steps: int = 300) -> float:
     for _ in range(steps):
         status = ex.step()
         n += 1
-        if status.name in ("SUCCESS", "FAILURE"):
+        if status is SUCCESS or status is FAILURE:
             break
     dt = time.perf_counter() - t0
     ex.shutdown()

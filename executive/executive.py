@@ -19,6 +19,7 @@ from typing import Any, Callable, Protocol
 import py_trees
 from py_trees.common import Status
 
+from behaviors.base import FAILURE, SUCCESS
 from hw.interfaces import Base, BaseEvents, BatteryState, Laser
 from navcore.clock import Clock, WallClock
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
@@ -381,7 +382,7 @@ class Executive:
                 if on_tick is not None and on_tick(self):
                     outcome, reason = "stopped", "stopped by caller"
                     break
-                if status in (Status.SUCCESS, Status.FAILURE):
+                if status is SUCCESS or status is FAILURE:
                     break
                 if self.clock.now() - t0 >= time_limit:
                     outcome, reason = "timeout", f"time limit {time_limit:g} s reached"

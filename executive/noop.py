@@ -18,7 +18,7 @@ from navcore.costmap.costmap2d import Costmap2D
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
 
 
-@dataclass
+@dataclass(slots=True)
 class StraightPlan:
     ok: bool
     path: Path | None
@@ -43,7 +43,7 @@ class StraightLinePlanner:
         return StraightPlan(True, Path(poses))
 
 
-@dataclass
+@dataclass(slots=True)
 class Control:
     cmd: Twist
     status: str
@@ -105,6 +105,8 @@ class FreeCostmap:
 _ZERO_COVARIANCE = np.zeros((3, 3))
 _ZERO_COVARIANCE.flags.writeable = False
 _NO_EVENTS = BaseEvents()
+_NO_INTENSITIES = np.zeros(0, np.float32)
+_NO_INTENSITIES.flags.writeable = False
 
 
 class _Base:
@@ -136,7 +138,7 @@ class _Laser:
     def scan(self) -> LaserScan:
         if self._scan is None or self._scan.stamp != self.robot.t:
             self._scan = LaserScan(self.robot.t, -1.0, 1.0, 0.5, 0.0, 0.1, 0.05, 10.0,
-                                   self._ranges)
+                                   self._ranges, _NO_INTENSITIES)
         return self._scan
 
 

@@ -62,9 +62,10 @@ class SafetyGate:
         isfinite = math.isfinite
         if not (isfinite(values[0]) and isfinite(values[1]) and isfinite(values[2])):
             faults.append("non_finite_command")
-        if odom_stamp is None or now - odom_stamp > p.sensor_timeout:
+        timeout = p.sensor_timeout
+        if odom_stamp is None or now - odom_stamp > timeout:
             faults.append("stale_odometry")
-        if self.require_laser and (scan_stamp is None or now - scan_stamp > p.sensor_timeout):
+        if self.require_laser and (scan_stamp is None or now - scan_stamp > timeout):
             faults.append("stale_laser")
         if faults:
             self._stall_since = None
@@ -78,10 +79,10 @@ class SafetyGate:
             faults.append("bumper")
             vx = 0.0
 
-        moving_cmd = abs(vx) > p.stall_speed or abs(vy) > p.stall_speed or abs(wz) > p.stall_speed
-        moving = measured is not None and (abs(measured.vx) > p.stall_speed
-                                           or abs(measured.vy) > p.stall_speed
-                                           or abs(measured.wz) > p.stall_speed)
+        still = p.stall_speed
+        moving_cmd = abs(vx) > still or abs(vy) > still or abs(wz) > still
+        moving = measured is not None and (abs(measured.vx) > still or abs(measured.vy) > still
+                                           or abs(measured.wz) > still)
         if moving_cmd and not moving and p.stall_timeout > 0.0:
             if self._stall_since is None:
                 self._stall_since = now
