@@ -1,6 +1,7 @@
 """Exact Euclidean distance transform (Felzenszwalb & Huttenlocher), one implementation for all.
 
-Two separable passes of the lower envelope of parabolas, O(cells). Used by the likelihood field
+Two separable passes, O(cells): the vertical distance by two sweeps, then the lower envelope of
+parabolas along each row. Used by the likelihood field
 (AMCL), the ray caster's clearance field and tests of the inflation layer. The inflation layer
 keeps its own capped, windowed variant inside its kernel because it works on uint8 distances.
 """
@@ -50,20 +51,28 @@ def squared_edt(mask: np.ndarray) -> np.ndarray:
     h, w = mask.shape
     inf = float(h * h + w * w) + 1.0
     out = np.empty((h, w), dtype=np.float64)
-    n = max(h, w)
-    f = np.empty(n, dtype=np.float64)
-    d = np.empty(n, dtype=np.float64)
-    v = np.empty(n, dtype=np.int64)
-    z = np.empty(n + 1, dtype=np.float64)
+    # Pass 1, down the columns: of a 0/inf column, the 1-D squared transform is the squared
+    # distance to the nearest site in the column, so two sweeps (down, then up) of the plain
+    # distance give it. Row after row they read memory in order and vectorise; ``none`` (h, more
+    # than any distance in a column) marks columns without a site.
+    none = float(h)
     for x in range(w):
-        for y in range(h):
-            f[y] = 0.0 if mask[y, x] else inf
-        _edt_1d(f, h, d, v, z)
-        for y in range(h):
-            out[y, x] = d[y]
+        out[0, x] = 0.0 if mask[0, x] else none
+    for y in range(1, h):
+        for x in range(w):
+            out[y, x] = 0.0 if mask[y, x] else min(out[y - 1, x] + 1.0, none)
+    for y in range(h - 2, -1, -1):
+        for x in range(w):
+            out[y, x] = min(out[y, x], out[y + 1, x] + 1.0)
+    # Pass 2, along the rows: the lower envelope of parabolas over pass 1's squares
+    f = np.empty(w, dtype=np.float64)
+    d = np.empty(w, dtype=np.float64)
+    v = np.empty(w, dtype=np.int64)
+    z = np.empty(w + 1, dtype=np.float64)
     for y in range(h):
         for x in range(w):
-            f[x] = out[y, x]
+            g = out[y, x]
+            f[x] = inf if g >= none else g * g
         _edt_1d(f, w, d, v, z)
         for x in range(w):
             out[y, x] = d[x]
