@@ -1,9 +1,9 @@
 """Exact Euclidean distance transform (Felzenszwalb & Huttenlocher), one implementation for all.
 
 Two separable passes, O(cells): the vertical distance by two sweeps, then the lower envelope of
-parabolas along each row. Used by the likelihood field
-(AMCL), the ray caster's clearance field and tests of the inflation layer. The inflation layer
-keeps its own capped, windowed variant inside its kernel because it works on uint8 distances.
+parabolas along each row. Used by the likelihood field (AMCL), the ray caster's clearance field
+and tests of the inflation layer. The inflation layer keeps its own capped, windowed variant
+inside its kernel because it works on uint8 distances.
 """
 
 from __future__ import annotations
