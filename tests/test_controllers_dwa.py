@@ -268,6 +268,38 @@ def test_branch_and_bound_picks_what_exhaustive_scoring_picks(seed):
     assert ((st_full == REJECTED) == (s_full < 0)).all()
 
 
+@pytest.mark.parametrize("seed", range(12))
+def test_footprint_bound_skips_rasterising_without_changing_any_score(seed):
+    """score_dwa with the square_max bound gives the same scores, states and choice as
+    rasterising every footprint, pruned and exhaustive, max and sum, small and grown footprints."""
+    rng = np.random.default_rng(100 + seed)
+    cm = empty_map(80, 0.05, -2.0, -2.0)
+    lethal = rng.random(cm.costs.shape) < rng.uniform(0.0005, 0.004)
+    lethal[36:44, 36:44] = False
+    inflate(cm, lethal)
+    params = dict(sum_scores=bool(seed % 2), occdist_scale=[0.01, 0.5, 2.0][seed % 3],
+                  max_scaling_factor=[0.2, 0.0, 1.0][seed % 3])
+    fp = RECT if seed % 4 < 2 else [[0.3, 0.0], [0.1, 0.2], [-0.3, 0.2], [-0.1, 0.0],
+                                     [-0.3, -0.2], [0.1, -0.2]]
+    dwa = DWAPlanner(cm, fp, params)
+    path = Path(np.column_stack([np.linspace(0, 2, 41),
+                                 rng.uniform(0.2, 0.8) * np.sin(np.linspace(0, 3, 41)),
+                                 np.zeros(41)]))
+    dwa.set_plan(path)
+    pose = Pose2D(0.0, 0.0, float(rng.uniform(-1, 1)))
+    vel = Twist(float(rng.uniform(0.0, 0.5)), 0.0, float(rng.uniform(-0.5, 0.5)))
+    ctx = dwa._prepare(pose, dwa._local_plan(pose, False))
+    assert ctx["reach"] > 0 and ctx["bound"].shape == cm.costs.shape
+    samples = dwa.sample_window(vel, pose, ctx["local_goal"])
+    for exhaustive in (False, True):
+        with_bound = dwa._score(pose, vel, samples, ctx, exhaustive)
+        plain = dwa._score(pose, vel, samples, dict(ctx, bound=np.zeros((0, 0), np.uint8)),
+                           exhaustive)
+        assert with_bound[-1] == plain[-1]
+        assert np.array_equal(with_bound[-3], plain[-3])   # scores, bit for bit
+        assert np.array_equal(with_bound[-2], plain[-2])   # states
+
+
 def _mean_path_deviation(params: dict) -> float:
     """Closed loop along an S-shaped plan; mean distance of the robot from the plan."""
     cm = Costmap2D(160, 160, 0.05, -1.0, -4.0)

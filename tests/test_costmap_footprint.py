@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from navcore.costmap.footprint import (circumscribed_radius, footprint_cost, inscribed_radius,
-                                       make_footprint, transform_footprint)
+from navcore.costmap.footprint import (bound_reach, circumscribed_radius, footprint_cost,
+                                       inscribed_radius, make_footprint, square_max,
+                                       transform_footprint)
 
 RECT = [[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]]
 # a non-convex "L" footprint, to exercise the even-odd fill
@@ -171,3 +172,22 @@ def test_footprint_cost_matches_brute_force_beyond_the_common_sizes(case):
         th = rng.uniform(-math.pi, math.pi)
         expected = _brute_force(costs, ox, oy, res, fp, x, y, th)
         assert footprint_cost(costs, ox, oy, res, fp, x, y, th) == expected, (trial, x, y, th)
+
+
+def test_square_max_is_the_max_over_the_clipped_square_and_bounds_footprint_costs():
+    rng = np.random.default_rng(5)
+    for shape, reach in (((30, 41), 3), ((5, 7), 4), ((3, 3), 0), ((4, 9), 20)):
+        costs = ((rng.random(shape) < 0.05) * rng.integers(1, 255, shape)).astype(np.uint8)
+        expected = np.array([[costs[max(0, i - reach):i + reach + 1,
+                                    max(0, j - reach):j + reach + 1].max()
+                              for j in range(shape[1])] for i in range(shape[0])])
+        assert np.array_equal(square_max(costs, reach), expected)
+    # the bound at a pose's cell is never below its footprint cost, at any heading
+    fp = make_footprint(RECT, footprint_padding=0.0)
+    reach = bound_reach(fp, 0.05)
+    costs = ((rng.random((60, 60)) < 0.02) * rng.integers(1, 255, (60, 60))).astype(np.uint8)
+    bound = square_max(costs, reach)
+    for _ in range(300):
+        x, y, th = rng.uniform(0.5, 2.5), rng.uniform(0.5, 2.5), rng.uniform(-math.pi, math.pi)
+        assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, x, y, th) <= bound[int(y / 0.05),
+                                                                             int(x / 0.05)]

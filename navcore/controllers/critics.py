@@ -79,7 +79,7 @@ def grid_critic(pts: np.ndarray, k: int, n: int, grid: np.ndarray, origin_x: flo
     return value
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def oscillation_critic(vx: float, vy: float, vth: float, flags: np.ndarray) -> float:
     """-5 when a latched "only this direction" flag forbids the sample, else 0.
 
@@ -92,7 +92,7 @@ def oscillation_critic(vx: float, vy: float, vth: float, flags: np.ndarray) -> f
     return 0.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def footprint_scale(vx: float, vy: float, scaling_speed: float, max_vel_trans: float,
                     max_scaling_factor: float) -> float:
     """ObstacleCostFunction::getScalingFactor: grow the footprint above ``scaling_speed``."""
@@ -102,7 +102,7 @@ def footprint_scale(vx: float, vy: float, scaling_speed: float, max_vel_trans: f
     return 1.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: float,
                  origin_y: float, resolution: float, path_grid: np.ndarray,
                  goal_grid: np.ndarray, front_grid: np.ndarray, weights: np.ndarray,
@@ -195,10 +195,11 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
 COARSE = 4  # the first footprint pass checks every 4th point
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: float,
                     origin_y: float, resolution: float, footprint: np.ndarray, sum_scores: bool,
-                    base: float, scale: float, budget: float, phase: int, cost: float) -> float:
+                    base: float, scale: float, budget: float, phase: int, cost: float,
+                    bound: np.ndarray, reach: int) -> float:
     """Worst (or summed) footprint cost over the points; -6 / -7 on lethal or off-map.
 
     The centre cell counts too (ROS takes the max of the footprint and the centre cell). Phase 0
@@ -206,6 +207,11 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
     others; ``cost`` carries phase 0's result into phase 1, and the two phases together give the
     full critic (max and sum ignore order). Stops early, returning the partial cost, once
     ``base + scale * cost`` exceeds ``budget``.
+
+    ``bound`` (``square_max`` of the costs at ``reach`` cells, which must hold the footprint;
+    reach < 0: none) skips the rasterising where it cannot change the result: the footprint
+    then lies on the map, below lethal, and no higher than the centre cell (sum) or than the
+    cost so far (max).
     """
     size_y, size_x = costs.shape
     for i in range(n - 1, -1, -1):
@@ -213,6 +219,20 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
             continue
         px = pts[k, i, 0]
         py = pts[k, i, 1]
+        if reach >= 0 and px >= origin_x and py >= origin_y:
+            mx = int((px - origin_x) / resolution)
+            my = int((py - origin_y) / resolution)
+            if (reach <= mx < size_x - reach and reach <= my < size_y - reach
+                    and bound[my, mx] < LETHAL_OBSTACLE):
+                c = costs[my, mx]
+                if bound[my, mx] <= (c if sum_scores else max(c, cost)):
+                    if sum_scores:
+                        cost += c
+                    elif c > cost:
+                        cost = c
+                    if base + scale * cost > budget:
+                        return cost
+                    continue
         f = footprint_cost(costs, origin_x, origin_y, resolution, footprint, px, py,
                            pts[k, i, 2])
         if f < 0:
@@ -237,7 +257,7 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
     return cost
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _heap_push(keys: np.ndarray, ids: np.ndarray, size: int, key: float, k: int) -> int:
     """Push (key, k) on the binary min-heap held in ``keys``/``ids``; ties order by k. New size."""
     i = size
@@ -253,7 +273,7 @@ def _heap_push(keys: np.ndarray, ids: np.ndarray, size: int, key: float, k: int)
     return size + 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _heap_pop(keys: np.ndarray, ids: np.ndarray, size: int) -> int:
     """Remove the smallest entry (read it from keys[0], ids[0] first). New size."""
     size -= 1
@@ -281,8 +301,8 @@ def _heap_pop(keys: np.ndarray, ids: np.ndarray, size: int) -> int:
 def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.ndarray,
               costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
               footprint: np.ndarray, path_grid: np.ndarray, goal_grid: np.ndarray,
-              front_grid: np.ndarray, weights: np.ndarray, flags: np.ndarray, exhaustive: bool
-              ) -> tuple[np.ndarray, np.ndarray, int]:
+              front_grid: np.ndarray, weights: np.ndarray, flags: np.ndarray, exhaustive: bool,
+              bound: np.ndarray, reach: int) -> tuple[np.ndarray, np.ndarray, int]:
     """Score every trajectory; return (scores, state per trajectory, best index or -1).
 
     ``nose``: the points ``forward_point_distance`` ahead (from ``simulate``).
@@ -290,6 +310,8 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     scaling_speed, max_vel_trans, max_scaling_factor, sum_scores (0/1).
     ``state``: SCORED, PRUNED (score is a lower bound) or REJECTED (score is the code).
     With ``exhaustive`` every trajectory is scored in full (for drawing and for tests).
+    ``bound``, ``reach``: see ``obstacle_critic`` (a 0 x 0 ``bound``: rasterise every footprint);
+    the same results either way.
 
     Bounds that never exceed the true cost let most trajectories stop early: the grid critics at
     the last point (one lookup each), then over all points plus the worst centre cell, then the
@@ -304,6 +326,7 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     state = np.zeros(k_n, dtype=np.int8)
     cheap = np.full(k_n, np.inf)
     no_costs = costs[:0, :0]
+    use_bound = bound.shape[0] == costs.shape[0] and bound.shape[1] == costs.shape[1]
     base_of = np.zeros(k_n)  # the cost of everything but the footprint
     # stage 0: oscillation and the last point
     for k in range(k_n):
@@ -376,12 +399,20 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
         s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
         if s != 1.0:
             fp = footprint * s
+        reach_k = -1
+        if use_bound:
+            r2 = 0.0
+            for v in range(fp.shape[0]):
+                r2 = max(r2, fp[v, 0] * fp[v, 0] + fp[v, 1] * fp[v, 1])
+            if int(math.sqrt(r2) / resolution) + 2 <= reach:  # the bound holds this footprint
+                reach_k = reach
         base = base_of[k]
         o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
-                            sum_scores, base, occ_s, budget, 0, 0.0 if sum_scores else partial[k])
+                            sum_scores, base, occ_s, budget, 0, 0.0 if sum_scores else partial[k],
+                            bound, reach_k)
         if o >= 0 and base + occ_s * o <= budget:
             o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,
-                                sum_scores, base, occ_s, budget, 1, o)
+                                sum_scores, base, occ_s, budget, 1, o, bound, reach_k)
         if o < 0:
             scores[k] = o
             state[k] = REJECTED

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from navcore.costmap.costmap2d import Costmap2D
+from navcore.costmap.footprint import bound_reach, square_max
 from navcore.params import Param, Parameters
 from navcore.types import Pose2D, Twist
 
@@ -179,6 +180,7 @@ class DWAPlanner(LocalPlannerBase):
             front_grid = goal_grid
         else:
             front_grid = self._distance_grid(costs, fcells[-1:])
+        bound, reach = self._bound(costs, res)
         pdist, gdist = p.path_distance_bias * res, p.goal_distance_bias * res
         fpd = p.forward_point_distance
         near_goal = (gx - pose.x) ** 2 + (gy - pose.y) ** 2 <= fpd * fpd * p.cheat_factor
@@ -186,7 +188,8 @@ class DWAPlanner(LocalPlannerBase):
                             p.twirling_scale, fpd, p.scaling_speed, p.max_vel_trans,
                             p.max_scaling_factor, 1.0 if p.sum_scores else 0.0])
         return dict(costs=costs, ox=ox, oy=oy, res=res, path=path_grid, goal=goal_grid,
-                    front=front_grid, weights=weights, local_goal=(gx, gy))
+                    front=front_grid, weights=weights, local_goal=(gx, gy), bound=bound,
+                    reach=reach)
 
     def _sync_grid_cache(self, costs: np.ndarray, ox: float, oy: float, res: float) -> None:
         """Keep the cached distance grids only while the costmap window (origin, resolution and
@@ -209,6 +212,19 @@ class DWAPlanner(LocalPlannerBase):
             grids[key] = grid
         return grid
 
+    def _bound(self, costs: np.ndarray, res: float) -> tuple[np.ndarray, int]:
+        """The footprint cost bound of the current window (``square_max``), for the footprint
+        at its largest (grown to max_scaling_factor at speed, with a little slack for samples
+        at the max_vel_trans tolerance), built once per window like the distance grids."""
+        p = self.params
+        scale = 1.01 * (1.0 + p.max_scaling_factor)
+        reach = bound_reach(self.footprint, res, scale)
+        cached = self._grid_cache.get("bound")
+        if cached is None or cached[1] != reach:
+            cached = (square_max(costs, reach), reach)
+            self._grid_cache["bound"] = cached
+        return cached
+
     def _acc(self) -> np.ndarray:
         p = self.params
         return np.array([p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta])
@@ -227,7 +243,7 @@ class DWAPlanner(LocalPlannerBase):
         scores, state, best = score_dwa(pts, nose, steps, cmds, ctx["costs"], ctx["ox"], ctx["oy"],
                                         ctx["res"], self.footprint, ctx["path"], ctx["goal"],
                                         ctx["front"], ctx["weights"], self.oscillation.only,
-                                        exhaustive)
+                                        exhaustive, ctx["bound"], ctx["reach"])
         return pts, steps, cmds, scores, state, best
 
     def sample_window(self, velocity: Twist, pose: Pose2D | None = None,

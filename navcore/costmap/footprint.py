@@ -364,6 +364,40 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     return best
 
 
+def bound_reach(footprint: np.ndarray, resolution: float, scale: float = 1.0) -> int:
+    """Half-width in cells of the square around a pose's cell that holds every cell the
+    footprint, grown up to ``scale``, can cover there at any heading (a cell of slack for
+    rounding)."""
+    radius = float(np.max(np.hypot(footprint[:, 0], footprint[:, 1]))) * scale
+    return int(radius / resolution) + 2
+
+
+@njit(cache=True, nogil=True)
+def square_max(costs: np.ndarray, reach: int) -> np.ndarray:
+    """For each cell, the max cost over the square of half-width ``reach`` cells around it
+    (clipped at the map edge). With ``reach = bound_reach(footprint, resolution)`` it bounds the
+    footprint cost of any pose in that cell from above: where it is no higher than what a
+    caller already knows, the footprint cannot add anything and needs no rasterising."""
+    size_y, size_x = costs.shape
+    w = np.uint64(size_x)  # unsigned indices: no wraparound, so the row loops vectorise
+    cols = np.empty((size_y, size_x), dtype=np.uint8)
+    for my in range(size_y):  # max over the column neighbours, a whole row at a time
+        lo = max(0, my - reach)
+        for mx in range(w):
+            cols[my, mx] = costs[lo, mx]
+        for j in range(lo + 1, min(size_y - 1, my + reach) + 1):
+            for mx in range(w):
+                cols[my, mx] = max(cols[my, mx], costs[j, mx])
+    out = cols.copy()
+    for my in range(size_y):  # then over the row neighbours: the row against itself shifted
+        for d in range(np.uint64(1), np.uint64(min(reach, size_x - 1) + 1)):
+            for mx in range(w - d):
+                out[my, mx] = max(out[my, mx], cols[my, mx + d])
+            for mx in range(d, w):
+                out[my, mx] = max(out[my, mx], cols[my, mx - d])
+    return out
+
+
 @njit(cache=True, nogil=True)
 def footprint_costs(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
                     footprint: np.ndarray, poses: np.ndarray) -> np.ndarray:
