@@ -70,10 +70,10 @@ GLOBAL_PLANNER_PARAMS = (
 # A* with the quadratic update: straight-line distance x this x neutral_cost (in free space the
 # quadratic potential grows by 0.9957 x cost per cell of straight-line distance)
 ASTAR_QUADRATIC_SCALE = 0.99
-# ... and bands 20 x neutral_cost wide instead of navfn's 2 x (BAND_NEUTRALS elsewhere): that heuristic is not consistent for
-# the quadratic update, so narrow bands close cells early and then correct them. Measured on the
-# office benchmark (1000^2 / 2000^2): updates per cell 0.74 / 0.96 -> 0.58 / 0.74, goal potential
-# 1.9 % / 1.8 % -> 0.2 % / 0.1 % above Dijkstra's.
+# ... and bands 20 x neutral_cost wide (BAND_NEUTRALS elsewhere, navfn's 2 x): that heuristic is
+# not consistent for the quadratic update, so narrow bands close cells early and then correct
+# them. Measured on the office benchmark (1000^2 / 2000^2): updates per cell 0.74 / 0.96 -> 0.58 /
+# 0.74, goal potential 1.9 % / 1.8 % -> 0.2 % / 0.1 % above Dijkstra's (then 2 x wide).
 ASTAR_QUADRATIC_BAND = 20
 
 

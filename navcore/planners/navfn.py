@@ -7,9 +7,9 @@ searched for the reachable point closest to the goal; the path descends the inte
 from there and comes out robot -> goal in world coordinates ``origin + cell * resolution`` (navfn's
 corner convention), ending with the goal pose. Differences from the C++: no 10000-cell queue cap,
 the stop waits for the goal's potential to be final (see ``wavefront``), threshold bands are
-``BAND_NEUTRALS`` (10) x ``COST_NEUTRAL`` wide instead of 2 x (fewer updates; potentials within
-1e-5), buffers are reused, and the shared costmap is never written (the C++ clears the robot
-cell in it).
+``BAND_NEUTRALS`` (10) x ``COST_NEUTRAL`` wide instead of 2 x (fewer updates, slightly different
+potentials: see there), buffers are reused, and the shared costmap is never written (the C++
+clears the robot cell in it).
 """
 
 from __future__ import annotations
