@@ -1,8 +1,9 @@
 """Control nodes with BehaviorTree.CPP / Nav2 semantics.
 
 py_trees' ``Sequence(memory=...)``/``Selector`` cover only part of these, so each is written out
-as a ``tick_now`` (see behaviors.base: plain calls, not py_trees' generators). Common rule (BT.CPP): when a control node finishes (SUCCESS or FAILURE)
-or is halted, every child is halted, so a later run starts all of them afresh.
+as a ``tick_now`` (see behaviors.base: plain calls, not py_trees' generators). Common rule
+(BT.CPP): when a control node finishes (SUCCESS or FAILURE) or is halted, every child is halted,
+so a later run starts all of them afresh.
 """
 
 from __future__ import annotations
