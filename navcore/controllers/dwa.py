@@ -10,6 +10,7 @@ obstacle critic keeps rejecting lethal trajectories even when ``occdist_scale`` 
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -115,6 +116,15 @@ class DWAPlanner(LocalPlannerBase):
         self.exhaustive = False  # score every trajectory in full (for drawing); slower
         # distance grids of the current costmap window, by seed cells (see _distance_grid)
         self._grid_cache: dict[str, Any] = {}
+        self._cycle_params: SimpleNamespace | None = None  # set while a cycle runs
+
+    def _p(self) -> SimpleNamespace:
+        """The parameter values as plain attributes: frozen for the running cycle, else fresh.
+        A ``Parameters`` attribute read raises and catches an AttributeError on its way to
+        ``__getattr__`` (about a microsecond); a cycle reads some forty of them."""
+        if self._cycle_params is not None:
+            return self._cycle_params
+        return SimpleNamespace(**self.params.as_dict())
 
     def reset(self) -> None:
         """Forget the latched xy tolerance, the rotate-to-goal phase and the oscillation flags."""
@@ -124,7 +134,7 @@ class DWAPlanner(LocalPlannerBase):
 
     # --- goal ---------------------------------------------------------------------------------
     def _position_reached(self, pose: Pose2D, goal: Pose2D) -> bool:
-        p = self.params
+        p = self._p()
         if (p.latch_xy_goal_tolerance and self._xy_latch) or gc.xy_reached(pose, goal,
                                                                              p.xy_goal_tolerance):
             self._xy_latch = True
@@ -145,7 +155,14 @@ class DWAPlanner(LocalPlannerBase):
 
     # --- one cycle ----------------------------------------------------------------------------
     def _compute(self, pose: Pose2D, velocity: Twist) -> ControlResult:
-        p = self.params
+        self._cycle_params = SimpleNamespace(**self.params.as_dict())
+        try:
+            return self._cycle(pose, velocity)
+        finally:
+            self._cycle_params = None
+
+    def _cycle(self, pose: Pose2D, velocity: Twist) -> ControlResult:
+        p = self._p()
         local = self._local_plan(pose, p.prune_plan)
         if len(local) == 0:
             return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
@@ -161,7 +178,7 @@ class DWAPlanner(LocalPlannerBase):
 
     def _prepare(self, pose: Pose2D, local: np.ndarray) -> dict[str, Any]:
         """Grids and critic weights of this cycle (updatePlanAndLocalCosts)."""
-        p, cm = self.params, self.costmap
+        p, cm = self._p(), self.costmap
         costs = self._costs()
         ox, oy, res = cm.origin_x, cm.origin_y, cm.resolution
         self._sync_grid_cache(costs, ox, oy, res)
@@ -216,23 +233,22 @@ class DWAPlanner(LocalPlannerBase):
         """The footprint cost bound of the current window (``square_max``), for the footprint
         at its largest (grown to max_scaling_factor at speed, with a little slack for samples
         at the max_vel_trans tolerance), built once per window like the distance grids."""
-        p = self.params
-        scale = 1.01 * (1.0 + p.max_scaling_factor)
-        reach = bound_reach(self.footprint, res, scale)
+        key = (res, self._p().max_scaling_factor, self.footprint.tobytes())
         cached = self._grid_cache.get("bound")
-        if cached is None or cached[1] != reach:
-            cached = (square_max(costs, reach), reach)
+        if cached is None or cached[0] != key:
+            reach = bound_reach(self.footprint, res, 1.01 * (1.0 + key[1]))
+            cached = (key, square_max(costs, reach), reach)
             self._grid_cache["bound"] = cached
-        return cached
+        return cached[1], cached[2]
 
     def _acc(self) -> np.ndarray:
-        p = self.params
+        p = self._p()
         return np.array([p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta])
 
     def _score(self, pose: Pose2D, velocity: Twist, samples: np.ndarray, ctx: dict[str, Any],
                exhaustive: bool) -> tuple[np.ndarray, ...]:
         """Roll out and score ``samples``: (points, steps, commands, scores, state, best)."""
-        p = self.params
+        p = self._p()
         samples, steps = filter_and_steps(samples, p.sim_time, p.sim_granularity,
                                           p.angular_sim_granularity, p.min_vel_trans,
                                           abs(p.min_vel_theta), p.max_vel_trans)
@@ -249,26 +265,29 @@ class DWAPlanner(LocalPlannerBase):
     def sample_window(self, velocity: Twist, pose: Pose2D | None = None,
                       local_goal: tuple[float, float] | None = None) -> np.ndarray:
         """The (K, 3) velocity samples of this cycle, before the min/max checks."""
-        p = self.params
-        v = np.array([velocity.vx, velocity.vy, velocity.wz])
-        acc = self._acc()
+        p = self._p()
+        v = (velocity.vx, velocity.vy, velocity.wz)
+        acc = (p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta)
         max_x, max_y = p.max_vel_x, p.max_vel_y
         if p.use_dwa:
-            reach = acc / p.controller_frequency  # one control period
+            reach = [a / p.controller_frequency for a in acc]  # one control period
         else:
-            reach = acc * p.sim_time
+            reach = [a * p.sim_time for a in acc]
             if pose is not None and local_goal is not None and p.sim_time > 0:
                 # never overshoot the goal within the horizon
                 d = math.hypot(local_goal[0] - pose.x, local_goal[1] - pose.y) / p.sim_time
                 max_x = max(min(max_x, d), p.min_vel_x)
                 max_y = max(min(max_y, d), p.min_vel_y)
-        hi = np.minimum([max_x, max_y, p.max_vel_theta], v + reach)
-        lo = np.maximum([p.min_vel_x, p.min_vel_y, -p.max_vel_theta], v - reach)
-        return sample_grid(lo, hi, np.array([p.vx_samples, p.vy_samples, p.vth_samples]))
+        # plain floats: the same IEEE sums and comparisons as arrays, without building them
+        hi = [min(m, vi + r) for m, vi, r in zip((max_x, max_y, p.max_vel_theta), v, reach)]
+        lo = [max(m, vi - r) for m, vi, r in zip((p.min_vel_x, p.min_vel_y, -p.max_vel_theta), v,
+                                                 reach)]
+        return sample_grid(np.array(lo), np.array(hi),
+                           np.array([p.vx_samples, p.vy_samples, p.vth_samples]))
 
     def _follow(self, pose: Pose2D, velocity: Twist, local: np.ndarray,
                 ctx: dict[str, Any]) -> ControlResult:
-        p = self.params
+        p = self._p()
         samples = self.sample_window(velocity, pose, ctx["local_goal"])
         pts, steps, cmds, scores, state, best = self._score(pose, velocity, samples, ctx,
                                                              self.exhaustive)
@@ -286,7 +305,7 @@ class DWAPlanner(LocalPlannerBase):
         """checkTrajectory: would the whole critic chain accept holding ``cmd``? A command too
         slow to simulate counts as legal (ROS scores its empty trajectory as 0)."""
         sample = np.array([[cmd.vx, cmd.vy, cmd.wz]])
-        p = self.params
+        p = self._p()
         kept, _ = filter_and_steps(sample, p.sim_time, p.sim_granularity,
                                    p.angular_sim_granularity, p.min_vel_trans,
                                    abs(p.min_vel_theta), p.max_vel_trans)
@@ -298,7 +317,7 @@ class DWAPlanner(LocalPlannerBase):
     def _stop_and_rotate(self, pose: Pose2D, velocity: Twist, goal: Pose2D,
                          ctx: dict[str, Any]) -> ControlResult:
         """LatchedStopRotateController: at the goal position, brake, then turn to the goal yaw."""
-        p = self.params
+        p = self._p()
         if gc.yaw_reached(pose, goal, p.yaw_goal_tolerance):
             self._rotating_to_goal = False
             if gc.stopped(velocity, p.theta_stopped_vel, p.trans_stopped_vel):
