@@ -169,8 +169,9 @@ def _reference(costs, table, x0, y0, xn, yn, inflate_unknown):
     return out
 
 
-# radii (cells) covering each row type and row pass: uint8 (r <= 11), uint16, the envelope (>= 182)
-@pytest.mark.parametrize("radius_cells", [0, 1, 2, 7, 11, 12, 20, 39, 181, 182, 190])
+# radii (cells) covering each row type and row pass: uint8 (r <= 11), uint16, the envelope (>= 182),
+# int32 column distances (>= 254)
+@pytest.mark.parametrize("radius_cells", [0, 1, 2, 7, 11, 12, 20, 39, 181, 182, 190, 260])
 def test_truncated_transform_agrees_with_the_full_edt_on_random_maps_and_windows(radius_cells):
     rng = np.random.default_rng(100 + radius_cells)
     table = cost_table(RES, 0.6 * radius_cells * RES, (radius_cells - 0.25) * RES, 4.0)
