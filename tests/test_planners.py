@@ -456,3 +456,115 @@ def test_cell_coordinates_from_the_reciprocal_match_integer_division() -> None:
         for x, y in zip(xs.tolist(), ys.tolist()):
             assert _cell_xy(y * nx + x, nx, ntx, False, 1.0 / nx) == (x, y)
             assert _cell_xy(tile_index(x, y, ntx), nx, ntx, True, 1.0 / ntx) == (x, y)
+
+
+# ---------------------------------------------------------------- the kernel against a reference
+
+def reference_wavefront(cost_lut: np.ndarray, block: float, truncate: bool, costs: np.ndarray,
+                        seed: int, target: int, threshold: float, band: float, quadratic: bool,
+                        hkind: int = 0, hscale: float = 0.0) -> tuple:
+    """navfn's priority-block propagation written plainly (per-cell queue flags 0 idle, 1 in
+    current/next, 2 in overflow; float32 arithmetic in the kernel's order), with the wavefront
+    module's documented differences. Returns ``(reached, updates, potential)``."""
+    f32 = np.float32
+    ny, nx = costs.shape
+    flat = costs.reshape(-1)
+    lut = np.where(cost_lut < block, cost_lut, np.inf).astype(np.float32)
+    hf_lut = (np.floor(cost_lut) if truncate else cost_lut).astype(np.float32)
+    pot = np.full(nx * ny, f32(1e10), np.float32)
+    border = np.zeros((ny, nx), bool)
+    border[0, :] = border[-1, :] = border[:, 0] = border[:, -1] = True
+    flag = np.where(border.reshape(-1), 4, 0)
+    tx, ty = target % nx, target // nx
+
+    def key(n: int, p: np.float32) -> float:
+        if hkind == 0:
+            return float(p)
+        dx, dy = abs(n % nx - tx), abs(n // nx - ty)
+        h = hscale * (dx + dy) if hkind == 1 else hscale * math.sqrt(dx * dx + dy * dy)
+        return float(p) + h
+
+    pot[seed] = f32(0.0)
+    cur = []
+    for m in (seed + 1, seed - 1, seed - nx, seed + nx):
+        if flag[m] == 0 and lut[flat[m]] < np.inf:
+            cur.append(m)
+            flag[m] = 1
+    t = f32(threshold + (key(seed, f32(0.0)) if hkind else 0.0))
+    nxt, over, updates, from_over = [], [], 0, False
+    while cur:
+        if from_over:
+            for n in cur:
+                flag[n] = 0
+        for n in cur:
+            if not from_over:
+                flag[n] = 0
+            updates += 1
+            hf = hf_lut[flat[n]]
+            nb = (n - 1, n + 1, n - nx, n + nx)
+            l, r, u, d = (pot[m] for m in nb)
+            tc, ta0 = min(l, r), min(u, d)
+            ta = min(ta0, tc)
+            if quadratic:
+                dc = abs(tc - ta0)
+                q = dc * f32(1.0 / float(hf))
+                p = ta + hf if dc >= hf else \
+                    ta + hf * (f32(-0.2301) * q * q + f32(0.5307) * q + f32(0.7040))
+            else:
+                p = ta + hf
+            if not p < pot[n]:
+                continue
+            pot[n] = p
+            below = key(n, p) < float(t)
+            for m in nb:
+                if not pot[m] > p + f32(0.707106781) * lut[flat[m]]:
+                    continue
+                if below and flag[m] in (0, 2):
+                    nxt.append(m)
+                    flag[m] = 1
+                elif not below and flag[m] == 0:
+                    over.append(m)
+                    flag[m] = 2
+        cur, nxt, from_over = nxt, [], False
+        if not cur:
+            if pot[target] < t:
+                return True, updates, pot
+            t = f32(t + f32(band))
+            cur, over, from_over = over, [], True
+    return bool(pot[target] < 1e10), updates, pot
+
+
+@pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
+def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
+    """The compiled kernel (queue flags and push costs folded into one float32 gate, one variant
+    per update/search/layout) visits cells exactly as the plain propagation above: same updates,
+    bit-identical potentials, row-major and tiled, on random costmaps and band widths."""
+    from navcore.planners.wavefront import Workspace, kernel_tables, run_wavefront
+
+    rng = np.random.default_rng(21)
+    for trial in range(12):
+        nx, ny = int(rng.integers(6, 30)), int(rng.integers(6, 30))
+        costs = random_costmap(rng, nx, ny).costs
+        lut = global_planner_cost_table(253, int(rng.integers(5, 80)),
+                                        float(rng.uniform(0.3, 3.0)), True) \
+            if trial % 2 else navfn_cost_table(True)
+        block, truncate = (253.0, True) if trial % 2 else (254.0, False)
+        free = np.argwhere(lut[costs[1:-1, 1:-1]] < block) + 1
+        if len(free) < 2:
+            continue
+        (sy, sx), (gy, gx) = free[rng.choice(len(free), 2, replace=False)]
+        seed, target = int(sy * nx + sx), int(gy * nx + gx)
+        band = float(rng.choice([20.0, 100.0, 500.0]))
+        hscale = 0.0 if hkind == 0 else float(lut.min()) * (0.99 if hkind == 2 else 1.0)
+        ref = reference_wavefront(lut, block, truncate, costs, seed, target, block, band,
+                                  quadratic, hkind, hscale)
+        for tiled in (False, True):
+            ws = Workspace(tiled=tiled)
+            ws.ensure(nx, ny)
+            reached, updates, _ = run_wavefront(
+                ws, costs.reshape(-1), kernel_tables(lut, block, truncate), nx, ny,
+                np.array([seed], np.int64), np.array([0.0], np.float32),
+                np.array([seed + 1, seed - 1, seed - nx, seed + nx], np.int64), target, block,
+                band, 2 * nx * ny, quadratic, hkind, hscale)
+            assert (reached, updates) == ref[:2], (trial, tiled)
+            np.testing.assert_array_equal(ws.pot, ref[2])
