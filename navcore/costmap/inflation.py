@@ -4,13 +4,14 @@ costmap_2d's InflationLayer spreads costs with a priority-queue brushfire that a
 distance to the nearest lethal cell. We compute the exact distance instead (as Nav2's newest
 inflation layer does), separably, and map squared cell distance to cost through a lookup table
 built with the costmap_2d formula. Costs only depend on distances up to the inflation radius r
-(in cells), so a transform truncated there is enough (proof at ``_inflate_kernel``): a column
+(in cells), so a transform truncated there is enough (proof at ``_inflate_block``): a column
 pass of vertical distances capped at r + 1, then per row d^2(x) = min over |dx| <= r of
 g(x + dx)^2 + dx^2. Both passes go row after row over contiguous memory in the narrowest integer
-type that holds the numbers (uint8 at the usual radii), so numba vectorises them. For large radii
-the row pass uses the lower envelope of parabolas instead (Felzenszwalb-Huttenlocher), which
-costs O(1) per cell whatever r. Cells farther than the radius keep their cost, exactly as
-costmap_2d leaves them unvisited.
+type that holds the numbers (uint8 at the usual radii), so numba vectorises them, and a large
+window is done in blocks of rows that stay in cache. For very large radii the row pass uses the
+lower envelope of parabolas instead (Felzenszwalb-Huttenlocher), which costs O(1) per cell
+whatever r. Cells farther than the radius keep their cost, exactly as costmap_2d leaves them
+unvisited.
 """
 
 from __future__ import annotations
@@ -177,7 +178,8 @@ ENVELOPE_FROM_RADIUS = 182
 
 
 def _row_type(r: int) -> type:
-    """The row buffers' dtype for cell radius r: the narrowest that holds 2 r^2 + 1."""
+    """The row buffers' dtype for cell radius r: the narrowest that holds 2 r^2 + 1 (and so
+    (r + 1)^2, the largest square ``_finish_row`` forms)."""
     if 2 * r * r + 1 <= 255:
         return np.uint8
     if 2 * r * r + 1 <= 65535:
