@@ -30,7 +30,9 @@ from navcore.types import Pose2D
 LOGS = {"aces": ("aces-corrected.log.gz", "aces/aces.yaml", 269.5),
         "intel": ("intel-corrected.log.gz", "intel_lab/intel.yaml", 12.7)}
 # a sharper setting than amcl's defaults: the product likelihood over 90 beams, a floor of 500
-# particles, no random injection
+# particles, no random injection. amcl's default likelihood_field (p = 1 + sum pz^3 over 30 beams)
+# is so flat that the cloud keeps all 5000 particles and the median error is 0.18 m (1.4 deg) on
+# ACES even on the map drawn from the log itself
 SHARP = {"laser_model_type": "likelihood_field_prob", "laser_max_beams": 90,
          "min_particles": 500, "recovery_alpha_slow": 0.0, "recovery_alpha_fast": 0.0}
 # what a user would set for these logs: scans are ~3 s and ~0.8 m apart, so resample after every
