@@ -304,7 +304,7 @@ def _kernel_table(table: np.ndarray) -> np.ndarray:
 
 def _buffers(r: int, shape: tuple[int, int], nx: int, old: tuple | None) -> tuple:
     """Scratch for one band: column distances ``g`` (uint8 when the cap r + 1 fits), the padded
-    row and the row of squared distances (uint16 when the window pass's sums fit)."""
+    row and the row of squared distances (of ``_row_type``)."""
     g_type = np.uint8 if r + 2 <= 255 else np.int32  # holds the cap r + 1, plus one
     d_type = _row_type(r)
     g, pad, d2 = old if old is not None else (None, None, None)
