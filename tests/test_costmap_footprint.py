@@ -191,3 +191,24 @@ def test_square_max_is_the_max_over_the_clipped_square_and_bounds_footprint_cost
         x, y, th = rng.uniform(0.5, 2.5), rng.uniform(0.5, 2.5), rng.uniform(-math.pi, math.pi)
         assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, x, y, th) <= bound[int(y / 0.05),
                                                                              int(x / 0.05)]
+
+
+@pytest.mark.parametrize("res", [0.05, 0.03, 0.1])
+def test_reach_square_holds_every_cell_the_footprint_covers(res):
+    """Everything outside the reach square around the pose's cell is lethal: the footprint
+    never sees it, at any position within the cell and any heading, grown or not."""
+    rng = np.random.default_rng(3)
+    fp = make_footprint(RECT, footprint_padding=0.0)
+    for scale in (1.0, 1.2):
+        reach = bound_reach(fp, res, scale)
+        for _ in range(300):
+            mx, my = 20, 20
+            x = (mx + rng.choice([0.0, 1e-12, 0.5, 1.0 - 1e-12, rng.random()])) * res
+            y = (my + rng.choice([0.0, 1e-12, 0.5, 1.0 - 1e-12, rng.random()])) * res
+            if int(x / res) != mx or int(y / res) != my:
+                continue
+            costs = np.full((41, 41), 254, np.uint8)
+            costs[my - reach:my + reach + 1, mx - reach:mx + reach + 1] = 0
+            th = rng.uniform(-math.pi, math.pi)
+            assert footprint_cost(costs, 0.0, 0.0, res, fp * scale, x, y, th) == 0
+    assert bound_reach(fp, 0.05) == int(math.hypot(0.25, 0.22) / 0.05) + 1

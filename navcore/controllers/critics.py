@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit
 
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
-from navcore.costmap.footprint import footprint_cost
+from navcore.costmap.footprint import footprint_cost, reach_of
 
 SCORED, PRUNED, REJECTED = 0, 1, 2
 
@@ -404,7 +404,7 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
             r2 = 0.0
             for v in range(fp.shape[0]):
                 r2 = max(r2, fp[v, 0] * fp[v, 0] + fp[v, 1] * fp[v, 1])
-            if int(math.sqrt(r2) / resolution) + 2 <= reach:  # the bound holds this footprint
+            if reach_of(math.sqrt(r2), resolution) <= reach:  # the bound holds this footprint
                 reach_k = reach
         base = base_of[k]
         o = obstacle_critic(pts, k, steps[k], costs, origin_x, origin_y, resolution, fp,

@@ -364,12 +364,18 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     return best
 
 
+@njit(cache=True, nogil=True)
+def reach_of(radius: float, resolution: float) -> int:
+    """Half-width in cells of the square around a pose's cell that holds every cell a footprint
+    within ``radius`` of the pose can cover, at any heading: a vertex lies less than
+    radius / resolution cells (plus rounding, far below the 1e-9 allowed) from a centre that
+    lies in the cell."""
+    return int(radius / resolution * (1.0 + 1e-9) + 1e-9) + 1
+
+
 def bound_reach(footprint: np.ndarray, resolution: float, scale: float = 1.0) -> int:
-    """Half-width in cells of the square around a pose's cell that holds every cell the
-    footprint, grown up to ``scale``, can cover there at any heading (a cell of slack for
-    rounding)."""
-    radius = float(np.max(np.hypot(footprint[:, 0], footprint[:, 1]))) * scale
-    return int(radius / resolution) + 2
+    """``reach_of`` the footprint grown by ``scale``."""
+    return reach_of(float(np.max(np.hypot(footprint[:, 0], footprint[:, 1]))) * scale, resolution)
 
 
 @njit(cache=True, nogil=True)
