@@ -283,8 +283,24 @@ class DistanceTraveled(Condition):
 
 def length_to_go(poses: np.ndarray) -> np.ndarray:
     """For each pose of an (N, 3) path, the path length from it to the end, m."""
-    steps = np.hypot(np.diff(poses[:, 0]), np.diff(poses[:, 1]))
-    return np.concatenate([np.cumsum(steps[::-1])[::-1], [0.0]]) if len(steps) else np.zeros(1)
+    if len(poses) < 2:
+        return np.zeros(1)
+    return _length_to_go(poses)
+
+
+@njit(cache=True)
+def _length_to_go(poses: np.ndarray) -> np.ndarray:
+    """Suffix sums of the step lengths, added from the end as a cumulative sum of the reversed
+    steps does (so the same floats)."""
+    n = poses.shape[0]
+    out = np.empty(n)
+    out[n - 1] = 0.0
+    total = 0.0
+    for i in range(n - 2, -1, -1):
+        step = math.hypot(poses[i + 1, 0] - poses[i, 0], poses[i + 1, 1] - poses[i, 1])
+        total = step if i == n - 2 else total + step
+        out[i] = total
+    return out
 
 
 def remaining_length(path: Path, pose: Pose2D, to_go: np.ndarray | None = None) -> float:

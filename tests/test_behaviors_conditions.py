@@ -181,6 +181,18 @@ def test_remaining_length_matches_numpy_argmin_on_random_paths():
     assert remaining_length(line, Pose2D(1.2, 0.5, 0.0)) == np.hypot(0.2, 0.5) + 2.0
 
 
+def test_length_to_go_matches_the_reversed_cumulative_sum():
+    rng = np.random.default_rng(8)
+    for k in range(300):
+        poses = rng.normal(0.0, 5.0, (int(rng.integers(0, 120)), 3))
+        if k % 4 == 0:
+            poses = np.asfortranarray(poses)
+        steps = np.hypot(np.diff(poses[:, 0]), np.diff(poses[:, 1]))
+        want = (np.concatenate([np.cumsum(steps[::-1])[::-1], [0.0]]) if len(steps)
+                else np.zeros(1))
+        np.testing.assert_array_equal(length_to_go(poses), want)
+
+
 def test_would_a_recovery_help_reads_error_codes():
     env = Env()
     planner = env.node("WouldAPlannerRecoveryHelp")
