@@ -90,6 +90,19 @@ def test_plan_densified_cut_and_seeded_as_ros_does():
     assert cells[0].tolist() == [0, 60] and cells[-1][0] == 119   # stops at the map border
 
 
+def test_local_plan_is_the_first_run_of_poses_inside_on_random_plans():
+    rng = np.random.default_rng(4)
+    for _ in range(500):
+        poses = rng.uniform(-5, 5, (int(rng.integers(0, 30)), 3))
+        x, y, size = rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(0.5, 8)
+        inside = [(px - x) ** 2 + (py - y) ** 2 <= (size / 2) ** 2 for px, py, _ in poses]
+        first = inside.index(True) if True in inside else len(poses)
+        end = first
+        while end < len(poses) and inside[end]:
+            end += 1
+        assert np.array_equal(local_plan(poses, x, y, size), poses[first:end])
+
+
 def test_oscillation_flags_latch_and_release():
     f = OscillationFlags()
     f.update(0, 0, 0, 0.2, 0, 0, 0.1, 0.05, 0.2)

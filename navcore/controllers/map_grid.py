@@ -58,16 +58,28 @@ def local_plan(poses: np.ndarray, x: float, y: float, size_m: float) -> np.ndarr
     """transformGlobalPlan: the first run of plan poses within half the costmap's larger side of
     the robot (skip the poses before it, stop at the first one beyond)."""
     poses = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
-    if len(poses) == 0:
-        return poses
-    thr2 = (size_m / 2.0) ** 2
-    inside = (poses[:, 0] - x) ** 2 + (poses[:, 1] - y) ** 2 <= thr2
-    first = int(np.argmax(inside))
-    if not inside[first]:
-        return poses[:0]
-    outside_after = np.flatnonzero(~inside[first:])
-    end = first + (int(outside_after[0]) if len(outside_after) else len(poses) - first)
+    first, end = _first_run_within(poses, x, y, (size_m / 2.0) ** 2)
     return poses[first:end]
+
+
+@njit(cache=True, nogil=True)
+def _first_run_within(poses: np.ndarray, x: float, y: float, r2: float) -> tuple[int, int]:
+    """[first, end) of the first run of poses within squared distance ``r2`` of (x, y);
+    (0, 0) when none is. A kernel: the numpy version cost tens of microseconds per cycle."""
+    n = poses.shape[0]
+    first = -1
+    for i in range(n):
+        dx = poses[i, 0] - x
+        dy = poses[i, 1] - y
+        inside = dx * dx + dy * dy <= r2
+        if first < 0:
+            if inside:
+                first = i
+        elif not inside:
+            return first, i
+    if first < 0:
+        return 0, 0
+    return first, n
 
 
 def prune_plan(poses: np.ndarray, x: float, y: float) -> np.ndarray:
