@@ -286,6 +286,34 @@ def test_static_layer_interprets_values_as_costmap_2d():
     assert list(scaled) == [255, 0, int(0.5 * 254), int(0.99 * 254), 254]
 
 
+
+def _interpret_value(v: int, lethal: int, unknown: int, track_unknown: bool, trinary: bool) -> int:
+    """StaticLayer::interpretValue for one byte, written out as in costmap_2d."""
+    if track_unknown and v == unknown:
+        return NO_INFORMATION
+    if not track_unknown and v == unknown:
+        return 0
+    if v >= lethal:
+        return LETHAL_OBSTACLE
+    if trinary:
+        return 0
+    return int(v / lethal * LETHAL_OBSTACLE)
+
+
+@pytest.mark.parametrize("dtype", [np.int8, np.int16, np.uint8])
+def test_static_layer_interpretation_matches_the_per_value_rule(dtype):
+    rng = np.random.default_rng(3)
+    info = np.iinfo(dtype)
+    data = rng.integers(info.min, info.max, (40, 30), endpoint=True).astype(dtype)
+    for lethal, unknown in ((100, -1), (65, 255), (30, 0)):
+        for track in (True, False):
+            for trinary in (True, False):
+                got = interpret_map(data, lethal, unknown, track, trinary)
+                want = [[_interpret_value(int(v) & 0xFF, lethal, unknown & 0xFF, track, trinary)
+                         for v in row] for row in data]
+                assert got.dtype == np.uint8
+                np.testing.assert_array_equal(got, np.array(want, np.uint8))
+
 def test_combination_methods_overwrite_and_maximum():
     grid = ascii_map("""
         ######

@@ -25,17 +25,21 @@ STATIC_PARAMS = (
 
 def interpret_map(data: np.ndarray, lethal_cost_threshold: int = 100, unknown_cost_value: int = -1,
                   track_unknown_space: bool = True, trinary_costmap: bool = True) -> np.ndarray:
-    """Occupancy values -> costs, as StaticLayer interpretValue (values compared as uint8)."""
-    v = (np.asarray(data).astype(np.int64) & 0xFF)
+    """Occupancy values -> costs, as StaticLayer interpretValue (values compared as uint8).
+
+    The rule is applied to the 256 possible byte values once and the map is read through that
+    table: one gather instead of several full-size int64 temporaries."""
+    v = np.arange(256, dtype=np.int64)
     lethal = max(min(int(lethal_cost_threshold), 100), 0)
     unknown = int(unknown_cost_value) & 0xFF
     if trinary_costmap:
-        out = np.where(v >= lethal, LETHAL_OBSTACLE, FREE_SPACE)
+        table = np.where(v >= lethal, LETHAL_OBSTACLE, FREE_SPACE)
     else:
         scaled = (v / lethal * LETHAL_OBSTACLE) if lethal > 0 else np.full(v.shape, 254.0)
-        out = np.where(v >= lethal, LETHAL_OBSTACLE, scaled.astype(np.int64))
-    out = np.where(v == unknown, NO_INFORMATION if track_unknown_space else FREE_SPACE, out)
-    return out.astype(np.uint8)
+        table = np.where(v >= lethal, LETHAL_OBSTACLE, scaled.astype(np.int64))
+    table[unknown] = NO_INFORMATION if track_unknown_space else FREE_SPACE
+    # astype(uint8) wraps signed and wide integers modulo 256, the same as "& 0xFF"
+    return table.astype(np.uint8)[np.asarray(data).astype(np.uint8)]
 
 
 class StaticLayer(CostmapLayer):
