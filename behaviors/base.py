@@ -163,6 +163,11 @@ class NavNode(PortsMixin):
 
     def read(self, port_name: str) -> Any:
         """Like ``get_input`` but None when no data is available yet (no exception)."""
+        keys = getattr(self, "_keys", None)
+        if keys is not None and port_name in keys:  # (literal ports have no key)
+            value = self._fast_get(port_name)  # the usual case, one call less
+            if value is not _MISSING:
+                return value
         try:
             return self.get_input(port_name)
         except (NoDataAvailable, NotImplementedError):  # py_trees refuses stored None values
