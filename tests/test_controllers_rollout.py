@@ -204,3 +204,45 @@ def _mean_path_deviation(params: dict) -> float:
 def test_goal_distance_bias_loosens_the_hold_on_the_path():
     assert _mean_path_deviation({"goal_distance_bias": 0.8}) < \
         _mean_path_deviation({"goal_distance_bias": 3.0})
+
+
+def _cells_inside_reference(costmap, footprint, pose):
+    """The even-odd test of every cell centre, with numpy over the footprint's bounding box."""
+    footprint = np.asarray(footprint, dtype=np.float64)
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    wx = pose.x + c * footprint[:, 0] - s * footprint[:, 1]
+    wy = pose.y + s * footprint[:, 0] + c * footprint[:, 1]
+    res, ox, oy = costmap.resolution, costmap.origin_x, costmap.origin_y
+    mask = np.zeros(costmap.costs.shape, dtype=np.bool_)
+    x0 = max(0, int(math.floor((wx.min() - ox) / res)))
+    x1 = min(costmap.size_x - 1, int(math.floor((wx.max() - ox) / res)))
+    y0 = max(0, int(math.floor((wy.min() - oy) / res)))
+    y1 = min(costmap.size_y - 1, int(math.floor((wy.max() - oy) / res)))
+    if x1 < x0 or y1 < y0:
+        return mask
+    gx, gy = np.meshgrid(ox + (np.arange(x0, x1 + 1) + 0.5) * res,
+                         oy + (np.arange(y0, y1 + 1) + 0.5) * res)
+    inside = np.zeros(gx.shape, dtype=bool)
+    ax, ay = wx[-1], wy[-1]
+    for bx, by in zip(wx, wy):
+        crosses = (ay <= gy) != (by <= gy)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xc = ax + (gy - ay) * (bx - ax) / (by - ay)
+        inside ^= crosses & (gx < xc)
+        ax, ay = bx, by
+    mask[y0:y1 + 1, x0:x1 + 1] = inside
+    return mask
+
+
+def test_start_footprint_cells_agree_with_the_numpy_even_odd_test_on_random_poses():
+    rng = np.random.default_rng(8)
+    cm = Costmap2D(40, 50, 0.05, -1.0, -1.2)
+    ell = [[0.3, 0.3], [0.3, -0.1], [0.0, -0.1], [0.0, -0.3], [-0.3, -0.3], [-0.3, 0.3]]
+    for trial in range(300):
+        fp = (RECT, ell)[trial % 2]
+        pose = Pose2D(rng.uniform(-1.5, 1.8), rng.uniform(-1.5, 1.3), rng.uniform(-4, 4))
+        if trial % 5 == 0:  # centres exactly on the grid and axis-aligned edges
+            pose = Pose2D(-1.0 + 0.05 * rng.integers(0, 40), -1.2 + 0.05 * rng.integers(0, 50),
+                          0.0)
+        assert np.array_equal(footprint_cells(cm, fp, pose),
+                              _cells_inside_reference(cm, fp, pose)), trial

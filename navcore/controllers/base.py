@@ -4,6 +4,7 @@ that nothing raises out of the control loop."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -34,6 +35,15 @@ class LocalPlannerBase:
         self._given: np.ndarray | None = None  # the poses as handed in, to spot a new plan
         self._last_pose: Pose2D | None = None
         self._last_vel = Twist()
+        self._cycle_params: SimpleNamespace | None = None  # set while a cycle runs
+
+    def _p(self) -> SimpleNamespace:
+        """The parameter values as plain attributes: frozen for the running cycle, else fresh.
+        A ``Parameters`` attribute read raises and catches an AttributeError on its way to
+        ``__getattr__`` (about a microsecond); a cycle reads some forty of them."""
+        if self._cycle_params is not None:
+            return self._cycle_params
+        return SimpleNamespace(**self.params.as_dict())
 
     # --- plan ---------------------------------------------------------------------------------
     def set_plan(self, path: Path) -> None:
@@ -90,7 +100,11 @@ class LocalPlannerBase:
             self._last_pose, self._last_vel = pose, velocity
             if len(self._plan) == 0:
                 return ControlResult(Twist.zero(), NO_PLAN, reason=f"{self.NAME}: no plan")
-            return self._compute(pose, velocity)
+            self._cycle_params = SimpleNamespace(**self.params.as_dict())
+            try:
+                return self._compute(pose, velocity)
+            finally:
+                self._cycle_params = None
         except Exception as e:  # the control loop must keep going; the reason tells what broke
             return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: internal error: {type(e).__name__}: {e}")

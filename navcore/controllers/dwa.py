@@ -10,7 +10,6 @@ obstacle critic keeps rejecting lethal trajectories even when ``occdist_scale`` 
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -116,15 +115,6 @@ class DWAPlanner(LocalPlannerBase):
         self.exhaustive = False  # score every trajectory in full (for drawing); slower
         # distance grids of the current costmap window, by seed cells (see _distance_grid)
         self._grid_cache: dict[str, Any] = {}
-        self._cycle_params: SimpleNamespace | None = None  # set while a cycle runs
-
-    def _p(self) -> SimpleNamespace:
-        """The parameter values as plain attributes: frozen for the running cycle, else fresh.
-        A ``Parameters`` attribute read raises and catches an AttributeError on its way to
-        ``__getattr__`` (about a microsecond); a cycle reads some forty of them."""
-        if self._cycle_params is not None:
-            return self._cycle_params
-        return SimpleNamespace(**self.params.as_dict())
 
     def reset(self) -> None:
         """Forget the latched xy tolerance, the rotate-to-goal phase and the oscillation flags."""
@@ -155,13 +145,6 @@ class DWAPlanner(LocalPlannerBase):
 
     # --- one cycle ----------------------------------------------------------------------------
     def _compute(self, pose: Pose2D, velocity: Twist) -> ControlResult:
-        self._cycle_params = SimpleNamespace(**self.params.as_dict())
-        try:
-            return self._cycle(pose, velocity)
-        finally:
-            self._cycle_params = None
-
-    def _cycle(self, pose: Pose2D, velocity: Twist) -> ControlResult:
         p = self._p()
         local = self._local_plan(pose, p.prune_plan)
         if len(local) == 0:

@@ -231,28 +231,40 @@ def best_rollout(pts: np.ndarray, steps: np.ndarray, costs: np.ndarray, origin_x
 def footprint_cells(costmap: Costmap2D, footprint: np.ndarray, pose: Pose2D) -> np.ndarray:
     """[my, mx] mask of the cells whose centres lie inside the footprint at ``pose`` (even-odd
     rule): the start footprint that the rollout planner's wavefront may pass through."""
-    c, s = math.cos(pose.theta), math.sin(pose.theta)
-    wx = pose.x + c * footprint[:, 0] - s * footprint[:, 1]
-    wy = pose.y + s * footprint[:, 0] + c * footprint[:, 1]
-    res, ox, oy = costmap.resolution, costmap.origin_x, costmap.origin_y
-    mask = np.zeros(costmap.costs.shape, dtype=np.bool_)
+    return _cells_inside(costmap.costs.shape[0], costmap.costs.shape[1], costmap.origin_x,
+                         costmap.origin_y, costmap.resolution,
+                         np.asarray(footprint, dtype=np.float64), pose.x, pose.y,
+                         math.cos(pose.theta), math.sin(pose.theta))
+
+
+@njit(cache=True, nogil=True)
+def _cells_inside(size_y: int, size_x: int, ox: float, oy: float, res: float,
+                  footprint: np.ndarray, x: float, y: float, c: float, s: float) -> np.ndarray:
+    """``footprint_cells`` for the pose (x, y) with heading cosine ``c`` and sine ``s``."""
+    n = footprint.shape[0]
+    wx = np.empty(n)
+    wy = np.empty(n)
+    for k in range(n):
+        wx[k] = x + c * footprint[k, 0] - s * footprint[k, 1]
+        wy[k] = y + s * footprint[k, 0] + c * footprint[k, 1]
+    mask = np.zeros((size_y, size_x), dtype=np.bool_)
     x0 = max(0, int(math.floor((wx.min() - ox) / res)))
-    x1 = min(costmap.size_x - 1, int(math.floor((wx.max() - ox) / res)))
+    x1 = min(size_x - 1, int(math.floor((wx.max() - ox) / res)))
     y0 = max(0, int(math.floor((wy.min() - oy) / res)))
-    y1 = min(costmap.size_y - 1, int(math.floor((wy.max() - oy) / res)))
-    if x1 < x0 or y1 < y0:
-        return mask
-    gx, gy = np.meshgrid(ox + (np.arange(x0, x1 + 1) + 0.5) * res,
-                         oy + (np.arange(y0, y1 + 1) + 0.5) * res)
-    inside = np.zeros(gx.shape, dtype=bool)
-    ax, ay = wx[-1], wy[-1]
-    for bx, by in zip(wx, wy):
-        crosses = (ay <= gy) != (by <= gy)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            xc = ax + (gy - ay) * (bx - ax) / (by - ay)
-        inside ^= crosses & (gx < xc)
-        ax, ay = bx, by
-    mask[y0:y1 + 1, x0:x1 + 1] = inside
+    y1 = min(size_y - 1, int(math.floor((wy.max() - oy) / res)))
+    for my in range(y0, y1 + 1):
+        gy = oy + (my + 0.5) * res
+        for mx in range(x0, x1 + 1):
+            gx = ox + (mx + 0.5) * res
+            inside = False
+            ax, ay = wx[n - 1], wy[n - 1]
+            for k in range(n):
+                bx, by = wx[k], wy[k]
+                # a crossing edge never has by == ay: no division by zero
+                if (ay <= gy) != (by <= gy) and gx < ax + (gy - ay) * (bx - ax) / (by - ay):
+                    inside = not inside
+                ax, ay = bx, by
+            mask[my, mx] = inside
     return mask
 
 
@@ -301,12 +313,12 @@ class TrajectoryPlanner(LocalPlannerBase):
 
     # --- one cycle ----------------------------------------------------------------------------
     def _weights(self) -> np.ndarray:
-        p = self.params
+        p = self._p()
         w = np.array([p.path_distance_bias, p.goal_distance_bias, p.occdist_scale])
         return w * self.costmap.resolution if p.meter_scoring else w
 
     def _compute(self, pose: Pose2D, velocity: Twist) -> ControlResult:
-        p = self.params
+        p = self._p()
         local = self._local_plan(pose, p.prune_plan)
         if len(local) == 0:
             return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
@@ -335,7 +347,7 @@ class TrajectoryPlanner(LocalPlannerBase):
         """createTrajectories' samples in its order: (samples (K, 3), group per sample, the
         unlimited in-place yaw rates, dvtheta). Groups: 0 vx x vtheta, 1 forward strafe,
         2 in-place rotation, 3 sideways escape, 4 backward escape."""
-        p = self.params
+        p = self._p()
         vx, vth = velocity.vx, velocity.wz
         max_x = p.max_vel_x
         fx, fy = ctx["final_goal"]
@@ -375,7 +387,7 @@ class TrajectoryPlanner(LocalPlannerBase):
 
     def _rollout(self, pose: Pose2D, velocity: Twist, samples: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
-        p = self.params
+        p = self._p()
         vmag = np.hypot(samples[:, 0], samples[:, 1])
         steps = (np.maximum(vmag * p.sim_time / p.sim_granularity,
                             np.abs(samples[:, 2]) / p.angular_sim_granularity) + 0.5)
@@ -398,7 +410,7 @@ class TrajectoryPlanner(LocalPlannerBase):
         """Goal-grid values ``heading_lookahead`` ahead of the ends of trajectories ``ks``
         (inf where that point is off the map)."""
         end = pts[ks, steps[ks] - 1]
-        la = self.params.heading_lookahead
+        la = self._p().heading_lookahead
         x = end[:, 0] + la * np.cos(end[:, 2])
         y = end[:, 1] + la * np.sin(end[:, 2])
         cm = self.costmap
@@ -414,7 +426,7 @@ class TrajectoryPlanner(LocalPlannerBase):
                   ) -> tuple[int, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """findBestPath: (chosen index or -1, its cost, samples, points, steps, scores), with
         the latch and escape bookkeeping of createTrajectories."""
-        p = self.params
+        p = self._p()
         samples, group, raw_theta, dvt = self._samples(pose, velocity, ctx)
         pts, steps = self._rollout(pose, velocity, samples)
         scores = np.full(len(samples), np.nan)
@@ -487,7 +499,7 @@ class TrajectoryPlanner(LocalPlannerBase):
 
     def _end_escape_if_far(self, pose: Pose2D) -> None:
         ex, ey, eth = self._escape
-        p = self.params
+        p = self._p()
         if (math.hypot(pose.x - ex, pose.y - ey) > p.escape_reset_dist
                 or abs(math.remainder(pose.theta - eth, 2 * math.pi)) > p.escape_reset_theta):
             self._escaping = False
@@ -512,7 +524,7 @@ class TrajectoryPlanner(LocalPlannerBase):
                 self.strafe_left = True
             self._prev = (pose.x, pose.y)
         x, y = self._prev
-        if math.hypot(pose.x - x, pose.y - y) > self.params.oscillation_reset_dist:
+        if math.hypot(pose.x - x, pose.y - y) > self._p().oscillation_reset_dist:
             self._clear_latches()
         self._end_escape_if_far(pose)
         return best, cost, samples, pts, steps, scores
@@ -535,7 +547,7 @@ class TrajectoryPlanner(LocalPlannerBase):
 
     def _at_goal(self, pose: Pose2D, velocity: Twist, goal: Pose2D,
                  ctx: dict[str, Any]) -> ControlResult:
-        p = self.params
+        p = self._p()
         if gc.yaw_reached(pose, goal, p.yaw_goal_tolerance):
             self._rotating_to_goal = False
             self._xy_latch = False
