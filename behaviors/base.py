@@ -128,6 +128,9 @@ class NavNode(PortsMixin):
         # (process-global) py_trees storage directly, keeping the tick overhead small.
         self._keys = {p: self._get_blackboard_key(p)
                       for p in (*self.input_ports(), *self.output_ports()) if p not in literals}
+        # the class each wired input must hold (ports typed with something else go unchecked)
+        self._types = {p: info.data_type for p, info in self.input_ports().items()
+                       if p in self._keys and isinstance(info.data_type, type)}
 
     def _fast_get(self, port_name: str) -> Any:
         """Stored value of a wired port, _MISSING when absent (None counts as absent)."""
@@ -135,8 +138,8 @@ class NavNode(PortsMixin):
         if value is None:
             return _MISSING
         if value is not _MISSING:
-            expected = self.input_ports()[port_name].data_type
-            if isinstance(expected, type) and not isinstance(value, expected):
+            expected = self._types.get(port_name)
+            if expected is not None and not isinstance(value, expected):
                 raise TypeError(f"{type(self).__name__} '{self.name}': port '{port_name}' "
                                 f"({self._keys[port_name]}) holds {type(value).__name__}, "
                                 f"expected {expected.__name__}")

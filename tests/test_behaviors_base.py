@@ -57,3 +57,16 @@ def test_feedback_is_formatted_when_read():
     assert node.feedback_message == "plain"
     node.feedback_message = "set directly"
     assert node.feedback_message == "set directly"
+
+
+def test_a_wired_port_holding_the_wrong_type_is_an_error_naming_it():
+    import py_trees
+    import pytest
+
+    ns = f"/base{next(_ns)}"
+    node = make("FollowPath", namespace=ns, path="{plan}")
+    py_trees.blackboard.Blackboard.storage[f"{ns}/plan"] = "not a path"
+    with pytest.raises(TypeError, match=r"port 'path' \(/base\d+/plan\) holds str, expected Path"):
+        node.read("path")
+    del py_trees.blackboard.Blackboard.storage[f"{ns}/plan"]
+    assert node.read("path") is None
