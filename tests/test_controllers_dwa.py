@@ -78,6 +78,41 @@ def test_distance_grid_is_4_connected_bfs_with_obstacle_and_unreachable_values()
     assert d2[3, 6] == 5 + 2               # Manhattan, through the door
 
 
+def _bfs_reference(costs, seeds, passable):
+    """MapGrid's wavefront written plainly: a deque and bounds checks."""
+    from collections import deque
+    h, w = costs.shape
+    n = h * w
+    dist = np.full((h, w), n + 1, dtype=np.int64)
+    queue = deque()
+    for mx, my in seeds:
+        if dist[my, mx] != 0:
+            dist[my, mx] = 0
+            queue.append((mx, my))
+    while queue:
+        mx, my = queue.popleft()
+        for nx, ny in ((mx - 1, my), (mx + 1, my), (mx, my - 1), (mx, my + 1)):
+            if not (0 <= nx < w and 0 <= ny < h) or dist[ny, nx] != n + 1:
+                continue
+            if costs[ny, nx] in (253, 254, 255) and not (passable.size and passable[ny, nx]):
+                dist[ny, nx] = n
+            else:
+                dist[ny, nx] = dist[my, mx] + 1
+                queue.append((nx, ny))
+    return dist
+
+
+def test_distance_grid_agrees_with_a_plain_wavefront_on_random_maps():
+    rng = np.random.default_rng(6)
+    for trial in range(150):
+        h, w = (int(v) for v in rng.integers(1, 25, 2))
+        costs = rng.choice(np.array([0, 0, 0, 50, 253, 254, 255], np.uint8), (h, w))
+        seeds = np.column_stack([rng.integers(0, w, 3), rng.integers(0, h, 3)])
+        passable = (rng.random((h, w)) < 0.3) if trial % 2 else np.zeros((0, 0), np.bool_)
+        got = distance_grid(costs, seeds, passable)
+        assert np.array_equal(got, _bfs_reference(costs, seeds, passable)), trial
+
+
 def test_plan_densified_cut_and_seeded_as_ros_does():
     dense = densify_plan(np.array([[0.0, 0.0, 0.3], [0.5, 0.0, 0.0]]), 0.05)
     assert len(dense) == 11 and np.allclose(np.diff(dense[:, 0]), 0.05)

@@ -136,19 +136,21 @@ def distance_grid(costs: np.ndarray, seeds: np.ndarray, passable: np.ndarray) ->
     pas = passable.reshape(passable.size)
     dist = np.full(n, n + 1, dtype=np.int32)
     queue = np.empty(n, dtype=np.int32)
+    qx = np.empty(n, dtype=np.int32)  # each queued cell's column: no division to find it
     tail = 0
     for i in range(seeds.shape[0]):
         j = seeds[i, 1] * size_x + seeds[i, 0]
         if dist[j] != 0:
             dist[j] = 0
             queue[tail] = j
+            qx[tail] = seeds[i, 0]
             tail += 1
     head = 0
     while head < tail:
         j = queue[head]
+        cx = qx[head]
         head += 1
         nd = dist[j] + 1
-        cx = j % size_x
         # the four neighbours, written out: a helper call per neighbour costs more than the work
         for side in range(4):
             if side == 0:
@@ -176,6 +178,7 @@ def distance_grid(costs: np.ndarray, seeds: np.ndarray, passable: np.ndarray) ->
                 continue
             dist[k] = nd
             queue[tail] = k
+            qx[tail] = cx - 1 if side == 0 else (cx + 1 if side == 1 else cx)
             tail += 1
     return dist.reshape(size_y, size_x)
 
