@@ -231,12 +231,34 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
 
     ``tick_now`` and ``stop`` keep py_trees' semantics (initialise when not RUNNING, update, stop
     on a final status) without its per-tick debug formatting, which dominated the tick cost.
+
+    ``on_error`` (set by the executive) takes an exception raised by ``initialise`` or
+    ``update`` as ``on_error(node, "initialise" | "update", error)``, and the node FAILs this
+    tick; without it the exception leaves the tick.
     """
 
+    on_error: Callable[[Any, str, BaseException], None] | None = None
+
     def tick_now(self) -> None:
+        failed = False
         if self.status is not RUNNING:
-            self.initialise()
-        new_status = self.update()
+            try:
+                self.initialise()
+            except Exception as e:  # noqa: BLE001 - reported, and the node fails
+                if self.on_error is None:
+                    raise
+                self.on_error(self, "initialise", e)
+                failed = True
+        if failed:
+            new_status = FAILURE
+        else:
+            try:
+                new_status = self.update()
+            except Exception as e:  # noqa: BLE001 - reported, and the node fails
+                if self.on_error is None:
+                    raise
+                self.on_error(self, "update", e)
+                new_status = FAILURE
         if new_status.__class__ is not Status:  # no set look-up: Enum hashes in Python
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
             new_status = INVALID

@@ -19,7 +19,7 @@ from typing import Any, Callable, Protocol
 import py_trees
 from py_trees.common import Status
 
-from behaviors.base import FAILURE, SUCCESS
+from behaviors.base import FAILURE, SUCCESS, Leaf
 from hw.interfaces import Base, BaseEvents, BatteryState, Laser
 from navcore.clock import Clock, WallClock
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
@@ -185,13 +185,18 @@ class Executive:
 
     # --- guarding -----------------------------------------------------------------------------
     def _guard_nodes(self) -> None:
-        """Wrap each node's lifecycle so an exception fails that node instead of the loop."""
+        """Make an exception in a node's lifecycle fail that node instead of the loop: navbt
+        leaves report it through ``on_error`` (no wrapper call per tick), other nodes' methods
+        are wrapped."""
         for node in self.tree.root.iterate():
-            for method in ("initialise", "update"):
-                original = getattr(node, method)
-                if getattr(original, "__func__", None) is _NOOP_INITIALISE:
-                    continue  # py_trees' own no-op cannot raise: no wrapper call per tick
-                setattr(node, method, self._guarded(node, method, original))
+            if isinstance(node, Leaf):
+                node.on_error = self._error
+            else:
+                for method in ("initialise", "update"):
+                    original = getattr(node, method)
+                    if getattr(original, "__func__", None) is _NOOP_INITIALISE:
+                        continue  # py_trees' own no-op cannot raise: no wrapper per tick
+                    setattr(node, method, self._guarded(node, method, original))
             if type(node).__name__ in RECOVERY_TYPES:
                 init = getattr(node, "initialise")
                 setattr(node, "initialise", self._noting_recovery(node, init))

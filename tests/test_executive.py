@@ -13,6 +13,7 @@ from py_trees.common import Access, Status
 from hw.interfaces import BaseEvents
 from navcore.clock import SimClock
 from navcore.types import LaserScan, Odometry, Pose2D, Twist
+from behaviors.base import Leaf
 from executive.executive import Executive
 from executive.recorder import Recorder, read_log, statuses_at
 from executive.safety import SafetyGate
@@ -147,6 +148,44 @@ def test_exception_in_node_fails_that_node_and_loop_survives():
     assert result.succeeded
     assert ex.trace.errors and ex.trace.errors[0]["node"] == "boom"
     assert "kaboom" in ex.trace.errors[0]["error"]
+
+
+class LeafBoom(Leaf):
+    """A navbt leaf whose initialise or update raises (its own tick reports the error)."""
+
+    INPUT_PORTS: dict = {}
+    OUTPUT_PORTS: dict = {}
+
+    def __init__(self, name: str, where: str) -> None:
+        super().__init__(name=name)
+        self.where = where
+        self.updates = 0
+
+    def initialise(self) -> None:
+        if self.where == "initialise":
+            raise ValueError("bad start")
+
+    def update(self) -> Status:
+        self.updates += 1
+        if self.where == "update":
+            raise RuntimeError("kaboom")
+        return Status.SUCCESS
+
+
+@pytest.mark.parametrize("where", ["initialise", "update"])
+def test_exception_in_a_navbt_leaf_fails_that_leaf_and_loop_survives(where):
+    boom = LeafBoom("leafboom", where)
+    root = py_trees.composites.Selector("sel", memory=False,
+                                        children=[boom, DriveToGoal("drive")])
+    ex, io_, _ = make(root)
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
+    assert result.succeeded
+    errors = ex.trace.errors
+    assert errors and all(e["node"] == "leafboom" and e["in"] == where for e in errors)
+    assert len(errors) == result.ticks                  # every tick: reported, then FAILURE
+    assert boom.updates == (0 if where == "initialise" else result.ticks)
+    with pytest.raises(RuntimeError, match="kaboom"):   # outside an executive it propagates
+        LeafBoom("plain", "update").tick_once()
 
 
 def test_only_failing_tree_stops_robot_with_reason():
