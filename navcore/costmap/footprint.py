@@ -324,12 +324,13 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
             ext[1, r] = max(ext[1, r], max(au, bu))
         else:
             slope = (bu - au) / (bv - av)
+            xa = au + (e0 - av) * slope
             for row in range(int(e0), int(e1) + 1):
-                xa = au + (max(e0, float(row)) - av) * slope
                 xb = au + (min(e1, row + 1.0) - av) * slope
                 r = row - r0
                 ext[0, r] = min(ext[0, r], min(xa, xb))
                 ext[1, r] = max(ext[1, r], max(xa, xb))
+                xa = xb  # where the edge leaves this band it enters the next: the same number
         au, av = bu, bv
     vector_rows = size_x >= LANES and costs.strides[1] == 1
     best = 0
