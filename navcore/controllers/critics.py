@@ -28,7 +28,9 @@ judges trajectories best-first on bounds that only grow toward the true cost (th
 at the last point; all points plus the worst centre cell; the footprints) and stops once no
 trajectory left can beat the best (branch and bound). The choice is the one ROS makes (lowest
 total, ties to the earliest sample); the score of a pruned trajectory is the bound reached when
-it was dropped, as ROS's own early exit reports.
+it was dropped, as ROS's own early exit reports. A footprint is rasterised only where the
+costmap's max over the footprint's reach (``square_max``) says it could raise the cost. The
+critics are inlined into the one kernel: a call taking arrays costs more than their work.
 """
 
 from __future__ import annotations
