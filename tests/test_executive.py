@@ -13,7 +13,7 @@ from py_trees.common import Access, Status
 from hw.interfaces import BaseEvents
 from navcore.clock import SimClock
 from navcore.types import LaserScan, Odometry, Pose2D, Twist
-from behaviors.base import Leaf
+from behaviors.base import make as make_node
 from executive.executive import Executive
 from executive.recorder import Recorder, read_log, statuses_at
 from executive.safety import SafetyGate
@@ -150,42 +150,40 @@ def test_exception_in_node_fails_that_node_and_loop_survives():
     assert "kaboom" in ex.trace.errors[0]["error"]
 
 
-class LeafBoom(Leaf):
-    """A navbt leaf whose initialise or update raises (its own tick reports the error)."""
+class Exploding:
+    """A component that raises: a costmap that cannot reset, a controller that cannot start."""
 
-    INPUT_PORTS: dict = {}
-    OUTPUT_PORTS: dict = {}
+    def reset_layers(self) -> None:
+        raise RuntimeError("kaboom")
 
-    def __init__(self, name: str, where: str) -> None:
-        super().__init__(name=name)
-        self.where = where
-        self.updates = 0
-
-    def initialise(self) -> None:
-        if self.where == "initialise":
-            raise ValueError("bad start")
-
-    def update(self) -> Status:
-        self.updates += 1
-        if self.where == "update":
-            raise RuntimeError("kaboom")
-        return Status.SUCCESS
+    def reset(self) -> None:
+        raise ValueError("bad start")
 
 
 @pytest.mark.parametrize("where", ["initialise", "update"])
 def test_exception_in_a_navbt_leaf_fails_that_leaf_and_loop_survives(where):
-    boom = LeafBoom("leafboom", where)
+    # navbt leaves report through on_error from their own tick (no wrappers): FollowPath's
+    # initialise resets its controller, ClearEntireCostmap's update resets the costmap.
+    ns = f"/leafboom_{where}"
+    leaf = (make_node("FollowPath", name="leafboom", namespace=ns) if where == "initialise"
+            else make_node("ClearEntireCostmap", name="leafboom", namespace=ns, costmap="local"))
     root = py_trees.composites.Selector("sel", memory=False,
-                                        children=[boom, DriveToGoal("drive")])
-    ex, io_, _ = make(root)
+                                        children=[leaf, DriveToGoal("drive")])
+    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D()), SimClock(), 0.1,
+                   {"local_costmap": Exploding(), "controllers": {"FollowPath": Exploding()}},
+                   namespace=ns)
     result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
     assert result.succeeded
     errors = ex.trace.errors
     assert errors and all(e["node"] == "leafboom" and e["in"] == where for e in errors)
     assert len(errors) == result.ticks                  # every tick: reported, then FAILURE
-    assert boom.updates == (0 if where == "initialise" else result.ticks)
+    # a failed initialise skips update (FollowPath's update would write its error code)
+    assert ex.blackboard_get("follow_path_error_code") is None
+    ex.shutdown()
+    plain = make_node("ClearEntireCostmap", namespace=f"{ns}_plain", costmap="local")
+    plain.setup(clock=SimClock(), local_costmap=Exploding())
     with pytest.raises(RuntimeError, match="kaboom"):   # outside an executive it propagates
-        LeafBoom("plain", "update").tick_once()
+        plain.tick_once()
 
 
 def test_only_failing_tree_stops_robot_with_reason():
