@@ -252,7 +252,7 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                    footprint: np.ndarray, x: float, y: float, theta: float) -> int:
     """Max cost of the cells the footprint covers at pose (x, y, theta): every cell its outline
     passes through and every cell inside it (a conservative rasterisation: no cell the robot
-    overlaps is missed). -1 if any vertex is off the map.
+    overlaps is missed). -1 if any vertex is off the map. ``costs``: a uint8 cost grid [my, mx].
 
     Row band by row band (cell rows), the parts of the edges within a band give its x extent.
     Edge by edge, each edge widens the extents of the bands it crosses: short loops with few
