@@ -90,6 +90,9 @@ class Parameters:
         object.__setattr__(self, "_values", {n: s.default for n, s in self._specs.items()})
         object.__setattr__(self, "_where", where)
         object.__setattr__(self, "_ignore", frozenset(ignore))
+        for name, value in self._values.items():
+            if not hasattr(Parameters, name):
+                object.__setattr__(self, name, value)
         if values:
             self.set(values)
 
@@ -120,6 +123,12 @@ class Parameters:
             checked[name] = spec.check(value, self._where)
         previous = {n: self._values[n] for n in checked}
         self._values.update(checked)
+        # Mirror the values into the instance dict so that ``p.name`` is a plain attribute read
+        # (components read dozens per control cycle; the ``__getattr__`` fall-back is ~1 us
+        # each). Names the class defines (methods) keep resolving to the class, as before.
+        for name, value in checked.items():
+            if not hasattr(Parameters, name):
+                object.__setattr__(self, name, value)
         return previous
 
     def as_dict(self) -> dict[str, Any]:

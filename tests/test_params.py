@@ -35,3 +35,22 @@ def test_errors_name_the_parameter(values: dict, needle: str) -> None:
     with pytest.raises(ParameterError) as e:
         Parameters(SPECS, values, where="DWAPlannerROS")
     assert needle in str(e.value) and str(e.value).startswith("DWAPlannerROS: ")
+
+
+def test_attribute_reads_follow_every_set_and_assignment() -> None:
+    p = Parameters(SPECS, {"vx_samples": 7})
+    p.max_vel_x = 0.25
+    p.set({"orientation_mode": "Forward", "use_dijkstra": False})
+    with pytest.raises(ParameterError):
+        p.set({"vx_samples": 9, "max_vel_x": -2.0})  # refused whole: nothing changes
+    with pytest.raises(ParameterError):
+        p.vx_samples = 0
+    assert {n: getattr(p, n) for n in p.as_dict()} == p.as_dict() == {
+        "max_vel_x": 0.25, "vx_samples": 7, "use_dijkstra": False, "orientation_mode": "Forward"}
+    with pytest.raises(AttributeError, match="no parameter 'max_vel'"):
+        _ = p.max_vel
+
+
+def test_a_parameter_named_like_a_method_leaves_the_method_alone() -> None:
+    p = Parameters((Param("specs", 1, int),), {"specs": 2})
+    assert callable(p.specs) and p.as_dict() == {"specs": 2}
