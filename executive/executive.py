@@ -37,6 +37,7 @@ RECOVERY_TYPES = frozenset({
 
 _mission_ids = itertools.count(1)
 _NOOP_INITIALISE = py_trees.behaviour.Behaviour.initialise
+_BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
 
 
 class RobotIO(Protocol):
@@ -301,7 +302,7 @@ class Executive:
         except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
             self._error("executive", "sense", e)
 
-        storage = py_trees.blackboard.Blackboard.storage
+        storage = _BLACKBOARD.storage
         storage[self._cmd_key] = None  # direct: the client's access checks cost more than a tick
         tick_ok = True
         try:
@@ -319,47 +320,48 @@ class Executive:
         if not tick_ok:
             requested = None  # whatever was written before the fault is not trusted
 
-        events = self.robot.events()
+        scan, odom, trace, io = self._last_scan, self._last_odom, self.trace, self.io
         gate = self.safety.filter(
             requested, now,
-            scan_stamp=self._last_scan.stamp if self._last_scan is not None else None,
-            odom_stamp=self._last_odom.stamp if self._last_odom is not None else None,
-            measured=self._last_odom.twist if self._last_odom is not None else None,
-            bumper=events.bumper)
+            scan_stamp=scan.stamp if scan is not None else None,
+            odom_stamp=odom.stamp if odom is not None else None,
+            measured=odom.twist if odom is not None else None,
+            bumper=self.robot.events().bumper)
         for f in gate.faults:
-            self.trace.faults[f] = self.trace.faults.get(f, 0) + 1
+            trace.faults[f] = trace.faults.get(f, 0) + 1
             self._events.append({"fault": f})
         cmd = gate.cmd
         try:
-            self.io.base.send(cmd)
+            io.base.send(cmd)
         except Exception as e:  # noqa: BLE001
             self._error("base", "send", e)
         self.last_cmd = cmd
 
-        truth = self.io.true_pose()
+        truth = io.true_pose()
         drawn = truth if truth is not None else pose
-        self.trace.times.append(now)
-        self.trace.poses.append((drawn.x, drawn.y, drawn.theta))
-        if self.io.in_collision():
-            if not self.trace.contacts or now - self.trace.contacts[-1]["t"] > 1.0:
+        trace.times.append(now)
+        trace.poses.append((drawn.x, drawn.y, drawn.theta))
+        if io.in_collision():
+            if not trace.contacts or now - trace.contacts[-1]["t"] > 1.0:
                 self._events.append({"contact": [round(drawn.x, 3), round(drawn.y, 3)]})
-            self.trace.contacts.append({"t": now, "pose": [drawn.x, drawn.y, drawn.theta]})
+            trace.contacts.append({"t": now, "pose": [drawn.x, drawn.y, drawn.theta]})
 
         bb = self._watcher.changes()
-        path = bb.get("path")
-        if isinstance(path, Path) and len(path):
-            self.trace.paths.append((now, subsample_path(path.poses)))
+        if bb:
+            path = bb.get("path")
+            if isinstance(path, Path) and len(path):
+                trace.paths.append((now, subsample_path(path.poses)))
         elapsed = self._wall.now() - wall0
         overrun = None
         if elapsed > self.period:
             overrun = 1000.0 * elapsed
-            self.trace.overruns += 1
-        self.recorder.record(self.tick_count, now, pose, cmd, bb, self._events, overrun,
-                             self.tree.root.status)
+            trace.overruns += 1
+        status = self.tree.root.status
+        self.recorder.record(self.tick_count, now, pose, cmd, bb, self._events, overrun, status)
         self._events = []
         self.tick_count += 1
         self.clock.sleep_until(now + self.period)
-        return self.tree.root.status
+        return status
 
     def stop_robot(self) -> None:
         try:
