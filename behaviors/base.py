@@ -263,7 +263,7 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
             new_status = INVALID
         if new_status is not RUNNING:
-            self.stop(new_status)
+            self.terminate(new_status)  # what stop() does (py_trees: stop is not overridden)
         self.status = new_status
         if _observer is not None:
             _observer(self)
