@@ -375,10 +375,15 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
             scans.add(local_cm, scan, laser_pose)
             scans.add(global_cm, scan, laser_pose)
         for cm in (local_cm, global_cm):
-            if now >= due[id(cm)]:
+            if now >= due[id(cm)] - _SCHEDULE_SLACK:
                 scans.flush(cm)
                 cm.update_map(pose)
-                due[id(cm)] = now + periods[id(cm)]
+                # a fixed rate like ros::Rate: the next deadline is one period after this one
+                # (now + period would let float sums push it one control tick late each time);
+                # after a stall longer than a period the schedule restarts from now
+                period = periods[id(cm)]
+                nxt = due[id(cm)] + period
+                due[id(cm)] = nxt if nxt > now else now + period
         if phantoms_pending:
             # after the first update, so the rolling window is already around the robot
             for shape, which in phantoms_pending:
@@ -482,6 +487,10 @@ class LazyScans:
         cm.reset_layers = reset_layers
         cm.clear_outside = clearing(clear_outside)
         cm.clear_inside = clearing(clear_inside)
+
+
+# s: a deadline this close to a tick counts as reached (the clock is a sum of float periods)
+_SCHEDULE_SLACK = 1e-9
 
 
 def _update_period(cm: Any) -> float:

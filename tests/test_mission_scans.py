@@ -104,3 +104,34 @@ def test_lazy_scans_match_eager_adds_under_random_scans_updates_clears_and_reset
             assert np.array_equal(np.asarray(e.costmap.costs), np.asarray(l.costmap.costs)), \
                 (step, op)
     assert min(n_ops.values()) > 0
+
+
+def test_costmaps_update_at_their_own_fixed_rate():
+    # robot.yaml: control at 10 Hz, local costmap 5 Hz, global 2 Hz: every 2nd and 5th tick,
+    # never a tick late (a deadline of "now + period" in summed floats slipped by one tick)
+    s = load_scenario(os.path.join(HERE, "scenarios", "phantom_obstacle.yaml"))
+    m = _mission(s)
+    period = m.executive.period
+    rates = {k: m.components[k].params.update_frequency
+             for k in ("local_costmap", "global_costmap")}
+    ticks_of: dict[str, list[int]] = {k: [] for k in rates}
+    tick = [0]
+    for key in rates:
+        cm = m.components[key]
+        update = cm.update_map
+
+        def counted(*a, _update=update, _key=key, **k):
+            ticks_of[_key].append(tick[0])
+            return _update(*a, **k)
+        cm.update_map = counted
+    m.executive.set_goal(s.goals[0])
+    for tick[0] in range(200):
+        if m.executive.step().name in ("SUCCESS", "FAILURE"):
+            break
+    assert tick[0] > 60
+    for key, hz in rates.items():
+        every = round(1.0 / (hz * period))
+        assert every in (2, 5)
+        # the first update paints the phantoms and updates once more on the same tick
+        steps = np.diff(sorted(set(ticks_of[key])))
+        assert steps.min() == steps.max() == every, (key, np.unique(steps))

@@ -210,12 +210,13 @@ g = G(60, 40)
 g.fill(30, 1, 31, 38, "#"); g.fill(30, 25, 31, 32, ".")   # gap 0.8 m, y 2.5..3.3, off the straight line
 write("narrow_gap_sim_time", "A 0.8 m gap in a wall, off the straight line to the goal, with the "
       "longer sim_time the tuning guide recommends for narrow passages (3.0 s; guide 3.1.2). The "
-      "guide's claim does not hold in this simulator with the planner's correct defaults: with "
-      "the default 1.7 s (and with 1.0 s or 1.5 s) move_base gets through on seeds 0-2, while "
-      "with 3.0 s (or 4.0 s) its long arcs cut the corner toward the wall post and it gets stuck "
-      "there. Over seeds 0-4 with 3.0 s, move_base gets through once (seed 1) and smach_recovery "
-      "once (seed 0, the scenario's seed), so neither outcome is expected; what must hold is "
-      "that neither tree touches the post or the wall.", g, """
+      "guide's claim does not hold in this simulator with the planner's correct defaults: over "
+      "seeds 0-2 move_base gets through on all three with 1.0 s, on two with 1.5 s or the default "
+      "1.7 s, on one with 4.0 s; its long arcs cut the corner toward the wall post and it gets "
+      "stuck there. Over seeds 0-4 with 3.0 s, move_base gets through once (seed 2) and "
+      "smach_recovery never (its recoveries keep returning it to the post until the time runs "
+      "out), so neither outcome is expected; what must hold is that neither tree touches the "
+      "post or the wall.", g, """
       start: [1.0, 1.0, 0.0]
       goals: [[5.0, 1.0, 0.0]]
       params:
