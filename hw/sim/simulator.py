@@ -398,12 +398,12 @@ class Simulator:
     def _odometry(self) -> Odometry:
         """The newest odometry message, built on first read after each publication."""
         st = self._st
-        stamp = self._t0 + st[ph.O_STAMP] * self._dt
+        stamp = self._t0 + st.item(ph.O_STAMP) * self._dt
         msg = self._odom_msg
         if msg is not None and msg.stamp == stamp:
             return msg
-        v = st.tolist()  # one conversion instead of one per field
-        vx, vy, wz = v[ph.OTX], v[ph.OTY], v[ph.OTW]
+        # one conversion of the block NOX..OTW (published pose, wheel pose, published twist)
+        x, y, th, _, _, _, vx, vy, wz = st[ph.NOX:ph.OTW + 1].tolist()
         a1, a2, a3, a4, a5 = self._alphas
         period = self._odom_period
         t2 = (vx * vx + vy * vy) * period * period
@@ -414,7 +414,7 @@ class Simulator:
         tc[0, 0] = (a3 * t2 + a4 * r2) * scale + 1e-9
         tc[1, 1] = var_s + 1e-9
         tc[2, 2] = (a1 * r2 + a2 * t2) * scale + 1e-9
-        self._odom_msg = Odometry(float(stamp), Pose2D(v[ph.NOX], v[ph.NOY], v[ph.NOTH]),
+        self._odom_msg = Odometry(stamp, Pose2D(x, y, th),
                                   Twist(vx, vy, wz), pose_covariance=_ODOM_POSE_COV,
                                   twist_covariance=tc)
         return self._odom_msg
