@@ -277,36 +277,33 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
         for i in range(n):
             out[i] = cast_dir_clear(clear, gx, gy, dirs[i, 0], dirs[i, 1], t_end)
         return
-    prev = np.empty((64, 3))
-    cur = np.empty((64, 3))
-    n_prev = 0
+    # the disks of the previous beam; a beam keeps the prefix it slides through and appends
+    # its own leaps after it, in place
+    disks = np.empty((64, 3))
+    nd = 0
     for i in range(n):
         dx = dirs[i, 0]
         dy = dirs[i, 1]
         t = 0.0
-        n_cur = 0
-        for j in range(n_prev):
+        kept = 0
+        for j in range(nd):
             # the stretch of this ray inside disk j; slide to its end if it covers t, stop at
             # the first disk that does not (the rest lie farther along the previous beam)
-            b = prev[j, 0] * dx + prev[j, 1] * dy
-            disc = b * b - prev[j, 2]
+            b = disks[j, 0] * dx + disks[j, 1] * dy
+            disc = b * b - disks[j, 2]
             if disc <= 0.0:
                 break
             s = math.sqrt(disc)
             if not -b - s <= t < -b + s:
                 break
             t = -b + s
-            cur[n_cur, 0] = prev[j, 0]
-            cur[n_cur, 1] = prev[j, 1]
-            cur[n_cur, 2] = prev[j, 2]
-            n_cur += 1
+            kept += 1
         t1 = _exit_parameter(gx, gy, dx, dy, w, h, t_end)
         if t >= t1:
             out[i] = t_end
+            nd = kept
         else:
-            out[i], n_cur = _march_clear(clear, gx, gy, dx, dy, t_end, t, t1, cur, n_cur)
-        prev, cur = cur, prev
-        n_prev = n_cur
+            out[i], nd = _march_clear(clear, gx, gy, dx, dy, t_end, t, t1, disks, kept)
 
 
 @njit(cache=True)
