@@ -193,7 +193,7 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
         t_max_x = (cx + face_x - gx) * inv_x if dx != 0.0 else _INF
         t_max_y = (cy + face_y - gy) * inv_y if dy != 0.0 else _INF
         while True:
-            c = clear[cy, cx]
+            c = clear[np.uintp(cy), np.uintp(cx)]  # unsigned: no negative-index wraparound
             if c == 0:
                 return t, nd
             if c >= 4:
