@@ -433,8 +433,8 @@ class LazyScans:
     """Scans for costmaps whose sensor buffers keep only the newest reading and check no reading
     rate (ROS's defaults): such a costmap only ever uses the last scan before something reads
     its buffers, so each scan is kept aside and added (converted to points) just before an
-    update or a clear (which recomposes the map at once); a reset forgets it, as it would have
-    cleared it from the buffers. The costmaps end up exactly as with every scan added at once,
+    update or a clear (which recomposes the map at once), or a change of the costmap's
+    parameters; a reset forgets it, as it would have cleared it from the buffers. The costmaps end up exactly as with every scan added at once,
     at the cost of one conversion per update instead of one per scan. Scans are values: nobody
     changes one after publishing it."""
 
@@ -487,10 +487,15 @@ class LazyScans:
         cm.reset_layers = reset_layers
         cm.clear_outside = clearing(clear_outside)
         cm.clear_inside = clearing(clear_inside)
+        # a scan kept aside is added with the parameters it arrived under (obstacle_range,
+        # heights, persistence...), as it would have been at once
+        for params in cm.parameter_namespaces().values():
+            params.before_change(lambda _values, _cm=cm: self.flush(_cm))
 
 
-# s: a deadline this close to a tick counts as reached (the clock is a sum of float periods)
-_SCHEDULE_SLACK = 1e-9
+# s: a deadline this close to a tick counts as reached. The clock and the deadlines are sums of
+# float periods; their rounding drifts apart by ~1e-9 s per half hour simulated, 1 us by far later.
+_SCHEDULE_SLACK = 1e-6
 
 
 def _update_period(cm: Any) -> float:

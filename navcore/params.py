@@ -9,9 +9,11 @@ caller (the tree's ``SetParameters``) can restore them.
 
 from __future__ import annotations
 
+import math
+
 import difflib
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 
 class ParameterError(ValueError):
@@ -49,6 +51,9 @@ class Param:
                 raise ParameterError(f"{prefix}parameter '{self.name}' must be a number, "
                                      f"got {value!r}")
             value = float(value)
+            if math.isnan(value):  # NaN passes every min/max comparison: refuse it by name
+                raise ParameterError(f"{prefix}parameter '{self.name}' must be a number, "
+                                     f"got NaN")
         elif t is str:
             if not isinstance(value, str):
                 raise ParameterError(f"{prefix}parameter '{self.name}' must be a string, "
@@ -90,6 +95,7 @@ class Parameters:
         object.__setattr__(self, "_values", {n: s.default for n, s in self._specs.items()})
         object.__setattr__(self, "_where", where)
         object.__setattr__(self, "_ignore", frozenset(ignore))
+        object.__setattr__(self, "_before_change", [])
         for name, value in self._values.items():
             if not hasattr(Parameters, name):
                 object.__setattr__(self, name, value)
@@ -122,6 +128,8 @@ class Parameters:
                                      f"'{name}'{suggest(name, self._specs)}")
             checked[name] = spec.check(value, self._where)
         previous = {n: self._values[n] for n in checked}
+        for call in self._before_change:
+            call(checked)
         self._values.update(checked)
         # Mirror the values into the instance dict so that ``p.name`` is a plain attribute read
         # (components read dozens per control cycle; the ``__getattr__`` fall-back is ~1 us
@@ -130,6 +138,11 @@ class Parameters:
             if not hasattr(Parameters, name):
                 object.__setattr__(self, name, value)
         return previous
+
+    def before_change(self, call: Callable[[dict[str, Any]], None]) -> None:
+        """Call ``call(new_values)`` before every accepted change (after validation), e.g. to
+        finish work that must still see the old values."""
+        self._before_change.append(call)
 
     def as_dict(self) -> dict[str, Any]:
         return dict(self._values)

@@ -71,10 +71,10 @@ def test_lazy_scans_match_eager_adds_under_random_scans_updates_clears_and_reset
     scans = LazyScans(list(lazy))
     rng = np.random.default_rng(11)
     x0, y0 = s.start.x, s.start.y
-    n_ops = {"scan": 0, "update": 0, "clear": 0, "reset": 0}
+    n_ops = {"scan": 0, "update": 0, "clear": 0, "reset": 0, "param": 0}
     for step in range(300):
-        op = rng.choice(["scan", "scan", "scan", "update", "clear", "reset"],
-                        p=[0.3, 0.2, 0.2, 0.2, 0.07, 0.03])
+        op = rng.choice(["scan", "scan", "scan", "update", "clear", "reset", "param"],
+                        p=[0.3, 0.2, 0.15, 0.2, 0.07, 0.03, 0.05])
         which = int(rng.integers(0, 2))
         pose = Pose2D(x0 + rng.uniform(-0.5, 0.5), y0 + rng.uniform(-0.5, 0.5),
                       rng.uniform(-3.1, 3.1))
@@ -95,6 +95,14 @@ def test_lazy_scans_match_eager_adds_under_random_scans_updates_clears_and_reset
                     cm.clear_outside(pose.x, pose.y, 1.0)
                 else:
                     cm.clear_inside(pose.x, pose.y, 1.0)
+        elif op == "param":
+            # a SetParameters on the sensor sources between a scan and the next update: the
+            # scan kept aside must still be added with the values it arrived under
+            value = {"obstacle_range": float(rng.uniform(0.5, 3.0))}
+            for cm in (eager[which], lazy[which]):
+                for ns, params in cm.parameter_namespaces().items():
+                    if "obstacle_range" in params and ns.count("/") == 2:
+                        params.set(value)
         else:
             eager[which].reset_layers()
             lazy[which].reset_layers()

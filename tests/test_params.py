@@ -54,3 +54,20 @@ def test_attribute_reads_follow_every_set_and_assignment() -> None:
 def test_a_parameter_named_like_a_method_leaves_the_method_alone() -> None:
     p = Parameters((Param("specs", 1, int),), {"specs": 2})
     assert callable(p.specs) and p.as_dict() == {"specs": 2}
+
+
+def test_nan_is_refused_by_name() -> None:
+    p = Parameters(SPECS)
+    with pytest.raises(ParameterError, match="'max_vel_x' must be a number, got NaN"):
+        p.set({"max_vel_x": float("nan")})
+    assert p.max_vel_x == 0.55
+
+
+def test_before_change_sees_accepted_changes_before_they_apply() -> None:
+    p = Parameters(SPECS)
+    seen = []
+    p.before_change(lambda values: seen.append((dict(values), p.max_vel_x)))
+    p.max_vel_x = 0.3
+    with pytest.raises(ParameterError):
+        p.set({"vx_samples": 0})
+    assert seen == [({"max_vel_x": 0.3}, 0.55)]

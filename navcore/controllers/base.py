@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 
@@ -37,13 +38,12 @@ class LocalPlannerBase:
         self._last_vel = Twist()
         self._cycle_params: SimpleNamespace | None = None  # set while a cycle runs
 
-    def _p(self) -> SimpleNamespace:
-        """The parameter values as plain attributes: frozen for the running cycle, else fresh.
-        A ``Parameters`` attribute read raises and catches an AttributeError on its way to
-        ``__getattr__`` (about a microsecond); a cycle reads some forty of them."""
+    def _p(self) -> Any:
+        """The parameter values: frozen for the running cycle (a parameter set from elsewhere
+        mid-cycle cannot mix old and new values in one decision), else the live ones."""
         if self._cycle_params is not None:
             return self._cycle_params
-        return SimpleNamespace(**self.params.as_dict())
+        return self.params
 
     # --- plan ---------------------------------------------------------------------------------
     def set_plan(self, path: Path) -> None:
