@@ -313,6 +313,13 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
 def load_config(path: str | os.PathLike | None = None) -> RobotConfig:
     """Read and validate a robot config YAML (the bundled default when ``path`` is None)."""
     path = FsPath(path) if path is not None else DEFAULT_CONFIG
+    return config_from_mapping(read_config_doc(path), str(path))
+
+
+def read_config_doc(path: str | os.PathLike) -> Any:
+    """The YAML document of a robot config file, not yet validated (ConfigError names the file
+    and line when it cannot be read or parsed)."""
+    path = FsPath(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as e:
@@ -323,4 +330,4 @@ def load_config(path: str | os.PathLike | None = None) -> RobotConfig:
         mark = getattr(e, "problem_mark", None)
         line = f":{mark.line + 1}" if mark is not None else ""
         raise ConfigError(f"{path}{line}: not valid YAML ({getattr(e, 'problem', e)})") from None
-    return config_from_mapping(doc, str(path))
+    return doc

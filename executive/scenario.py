@@ -414,11 +414,9 @@ def check_expectation(e: Expectation, outcome: str, sim_time: float, fired_types
 
 def scenario_config(scenario: Scenario, base: str | None = None) -> Any:
     """The robot config for a scenario: the base config with its robot/params overrides."""
-    from executive.config import DEFAULT_CONFIG, config_from_mapping
+    from executive.config import DEFAULT_CONFIG, config_from_mapping, read_config_doc
     base_path = base or str(DEFAULT_CONFIG)
-    from executive.tree_yaml import SAFE_LOADER  # libyaml: the base config is read every run
-    with open(base_path, encoding="utf-8") as f:
-        doc = yaml.load(f, Loader=SAFE_LOADER) or {}
+    doc = read_config_doc(base_path) or {}
     doc.setdefault("robot", {})
     doc["robot"] = dict(doc["robot"] or {}, **scenario.robot)
     for ns, values in scenario.params.items():

@@ -163,3 +163,15 @@ def test_moving_obstacle_timing():
     assert m.position(11.0) == pytest.approx((1.0, 0.0))
     assert m.position(13.0) == pytest.approx((2.0, 1.0))
     assert m.position(100.0) == (2.0, 2.0)
+
+
+def test_scenario_over_an_unreadable_or_broken_base_config_names_the_file(tmp_path):
+    from executive.config import ConfigError
+    from executive.scenario import scenario_config
+    s = load_scenario(HERE / "scenarios" / "unknown_box.yaml")
+    with pytest.raises(ConfigError, match="missing.yaml: cannot read robot config"):
+        scenario_config(s, str(tmp_path / "missing.yaml"))
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("robot:\n  footprint: [[0, 0]\n")
+    with pytest.raises(ConfigError, match=r"bad.yaml:\d+: not valid YAML"):
+        scenario_config(s, str(bad))

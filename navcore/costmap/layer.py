@@ -7,6 +7,9 @@ A layer follows costmap_2d's two-phase update: ``update_bounds`` grows the windo
 
 from __future__ import annotations
 
+import numpy as np
+from numba import njit
+
 from navcore.costmap.cost_values import FREE_SPACE, NO_INFORMATION
 from navcore.costmap.costmap2d import (Costmap2D, combine_addition, combine_max, combine_overwrite,
                                        combine_true_overwrite)
@@ -19,8 +22,9 @@ _COMBINE = {"true_overwrite": combine_true_overwrite, "overwrite": combine_overw
             "max": combine_max, "addition": combine_addition}
 
 
-def touch(bounds: list[float], x: float, y: float) -> None:
-    """Grow ``bounds`` to include the world point (x, y)."""
+@njit(cache=True, nogil=True)
+def grow_bounds(bounds: np.ndarray, x: float, y: float) -> None:
+    """Grow ``bounds`` [min_x, min_y, max_x, max_y] to include the world point (x, y)."""
     if x < bounds[0]:
         bounds[0] = x
     if y < bounds[1]:
@@ -29,6 +33,10 @@ def touch(bounds: list[float], x: float, y: float) -> None:
         bounds[2] = x
     if y > bounds[3]:
         bounds[3] = y
+
+
+# the same rule for the layers' Python-list bounds (the njit kernels use ``grow_bounds``)
+touch = grow_bounds.py_func
 
 
 class CostmapLayer:

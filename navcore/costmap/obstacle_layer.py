@@ -21,7 +21,7 @@ from navcore.clock import Clock, SimClock
 from navcore.costmap.cost_values import FREE_SPACE, LETHAL_OBSTACLE
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.costmap.footprint import transform_footprint
-from navcore.costmap.layer import CostmapLayer, combination_name, touch
+from navcore.costmap.layer import CostmapLayer, combination_name, grow_bounds, touch
 from navcore.params import Param, ParameterError, Parameters
 from navcore.types import LaserScan, Pose2D
 
@@ -162,20 +162,6 @@ def raytrace_line(costs: np.ndarray, x0: int, y0: int, x1: int, y1: int, max_len
                 x += sx
                 err -= ady
     costs[y, x] = value
-
-
-@njit(cache=True, nogil=True)
-def grow_bounds(bounds: np.ndarray, x: float, y: float) -> None:
-    """Grow ``bounds`` [min_x, min_y, max_x, max_y] to include the world point (x, y) (the njit
-    twin of ``layer.touch``, for the marking and clearing kernels)."""
-    if x < bounds[0]:
-        bounds[0] = x
-    if y < bounds[1]:
-        bounds[1] = y
-    if x > bounds[2]:
-        bounds[2] = x
-    if y > bounds[3]:
-        bounds[3] = y
 
 
 @njit(cache=True, nogil=True)

@@ -18,8 +18,8 @@ from numba import njit
 from navcore.clock import Clock
 from navcore.costmap.cost_values import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION
 from navcore.costmap.costmap2d import shift_grid
-from navcore.costmap.obstacle_layer import (OBSTACLE_PARAMS, ObstacleLayer, grow_bounds,
-                                            grow_bounds_to_ray_end)
+from navcore.costmap.layer import grow_bounds
+from navcore.costmap.obstacle_layer import OBSTACLE_PARAMS, ObstacleLayer, grow_bounds_to_ray_end
 from navcore.params import Param
 
 VOXEL_BITS = 16
