@@ -6,9 +6,10 @@ is absent), commanded at 20 Hz by a small reactive wanderer the way the executiv
 it; the wanderer's own time is not counted. Also reported: the same with the IMU at 50 Hz, and
 the cost of one 720-beam scan. Factors are simulated seconds per second of this process's CPU
 time (equal to wall time on an idle machine); the wall figure is printed too, lower whenever
-other jobs share the cores.
+other jobs share the cores. Each figure pools ``--runs`` wanderers (seeds 0, 1, ...): the laser
+noise steers a wanderer, and one path alone can sit ~7 % above or below the others.
 
-    python bench/bench_sim.py [--seconds 120] [--json]
+    python bench/bench_sim.py [--seconds 60] [--runs 4] [--json]
 """
 
 from __future__ import annotations
@@ -94,13 +95,20 @@ def run(world: World, seconds: float, imu: bool, seed: int = 0) -> tuple[float, 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seconds", type=float, default=120.0, help="simulated seconds per run")
+    ap.add_argument("--seconds", type=float, default=60.0, help="simulated seconds per run")
+    ap.add_argument("--runs", type=int, default=4, help="wanderers (seeds 0, 1, ...) pooled")
     ap.add_argument("--json", action="store_true", help="print a JSON line of figures last")
     args = ap.parse_args()
     world, name = load_world()
     run(world, 2.0, True)  # compile and warm the caches
-    factor, factor_wall, sim = run(world, args.seconds, imu=False)
-    factor_imu, _, _ = run(world, args.seconds, imu=True)
+    seeds = range(max(1, args.runs))
+    plain = [run(world, args.seconds, False, seed) for seed in seeds]
+    with_imu = [run(world, args.seconds, True, seed) for seed in seeds]
+    total = args.seconds * len(seeds)
+    factor = total / sum(args.seconds / f for f, _, _ in plain)
+    factor_wall = total / sum(args.seconds / fw for _, fw, _ in plain)
+    factor_imu = total / sum(args.seconds / f for f, _, _ in with_imu)
+    sim = plain[0][2]
     # one scan alone
     p = sim.true_pose()
     reps = 300
@@ -110,12 +118,14 @@ def main() -> None:
     scan_ms = (time.process_time() - t0) / reps * 1e3
     travelled = sim.travelled
     print(f"map {name} {world.grid.width}x{world.grid.height} @ {world.resolution} m, "
-          f"{args.seconds:.0f} s simulated, laser 720 beams @ 10 Hz, odometry @ 50 Hz")
+          f"{len(seeds)} x {args.seconds:.0f} s simulated, laser 720 beams @ 10 Hz, "
+          f"odometry @ 50 Hz")
     print(f"  realtime factor          {factor:8.0f} x   (goal > 500; per CPU second)")
+    print("  per wanderer             " + " ".join(f"{f:.0f}" for f, _, _ in plain))
     print(f"  realtime factor, wall    {factor_wall:8.0f} x   (lower when the cores are shared)")
     print(f"  realtime factor with IMU {factor_imu:8.0f} x")
     print(f"  one 720-beam scan        {scan_ms:8.3f} ms")
-    print(f"  wandered {travelled:.1f} m, {len(sim.contacts)} contacts, ends at "
+    print(f"  seed 0 wandered {travelled:.1f} m, {len(sim.contacts)} contacts, ends at "
           f"({p.x:.2f}, {p.y:.2f})")
     if args.json:
         print(json.dumps({"sim_realtime_factor": round(factor, 1),
