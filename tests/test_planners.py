@@ -428,6 +428,9 @@ def test_tiled_wavefront_gives_the_same_potential_and_path(kind: str, params: di
             if kind.startswith("global") else dict(params, visualize_potential=True)
         flat, tiled = make_planner(kind, cm, params), make_planner(kind, cm, params)
         flat._ws, tiled._ws = Workspace(tiled=False), Workspace(tiled=True)
+        # navfn without a published potential reads its path off the tiled copy directly
+        kept = make_planner(kind, cm, dict(params, visualize_potential=False))
+        kept._ws = Workspace(tiled=True)
         free = np.argwhere(cm.costs[1:-1, 1:-1] == 0) + 1
         for _ in range(4):
             (sy, sx), (gy, gx) = free[rng.integers(len(free), size=2)]
@@ -439,6 +442,15 @@ def test_tiled_wavefront_gives_the_same_potential_and_path(kind: str, params: di
             if a.ok:
                 np.testing.assert_array_equal(a.path.poses, b.path.poses)
                 found += 1
+            if kind.startswith("navfn"):
+                c = kept.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
+                assert kept._ws.pot_tiled and c.potential is None
+                assert (a.ok, a.reason) == (c.ok, c.reason)
+                if a.ok:
+                    np.testing.assert_array_equal(a.path.poses, c.path.poses)
+                for y, x in free[rng.integers(len(free), size=20)]:
+                    w = cm.map_to_world(int(x), int(y))
+                    assert flat.potential_at(*w) == kept.potential_at(*w)
     assert found >= 8
 
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from navcore.costmap.costmap2d import Costmap2D
-from navcore.planners.wavefront import POT_HIGH
+from navcore.planners.wavefront import POT_HIGH, layout_index
 from navcore.types import Pose2D
 
 
@@ -15,10 +15,11 @@ def finite_pose(p: Pose2D) -> bool:
     return all(math.isfinite(v) for v in (p.x, p.y, p.theta))
 
 
-def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, tolerance: float
-                     ) -> tuple[float, float] | None:
+def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, tolerance: float,
+                     tiled: bool = False) -> tuple[float, float] | None:
     """navfn's goal tolerance: sample the square of half-side ``tolerance`` around the goal in
-    ``resolution`` steps and return the sample closest to the goal whose cell has a potential."""
+    ``resolution`` steps and return the sample closest to the goal whose cell has a potential
+    (``pot`` flat, in the wavefront's tiled layout when ``tiled``)."""
     res = costmap.resolution
     n = int(math.floor((2.0 * tolerance) / res + 1e-9)) + 1 if tolerance > 0.0 else 1
     offs = -tolerance + res * np.arange(n)
@@ -33,7 +34,8 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
     if not inside.any():
         return None
     p = np.full(gx.shape, np.inf)
-    p[inside] = pot[my[inside] * costmap.size_x + mx[inside]]
+    p[inside] = pot[layout_index(my[inside] * costmap.size_x + mx[inside], costmap.size_x,
+                                 tiled)]
     ok = p < POT_HIGH
     if not ok.any():
         return None

@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from navcore.planners.wavefront import POT_HIGH
+from navcore.planners.wavefront import POT_HIGH, TILE, _cell_xy, tile_index
 
 PATH_STEP = 0.5  # cells per gradient step (navfn pathStep)
 STOP_NEAR_NEUTRAL = 0  # navfn: stop where the potential drops below COST_NEUTRAL
@@ -36,7 +36,18 @@ def _int_trunc(v: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tuple:
+def _at(pot: np.ndarray, n: int, nx: int, ntx: int, inv_nx: float, tiled: bool) -> float:
+    """The potential of row-major cell ``n`` from a row-major or tiled (``tile_index``) grid,
+    so that a path can be read off the wavefront's tiled copy without converting it back."""
+    if not tiled:
+        return pot[n]
+    x, y = _cell_xy(n, nx, ntx, False, inv_nx)
+    return pot[tile_index(x, y, ntx)]
+
+
+@njit(cache=True, inline="always")
+def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, ntx: int,
+               inv_nx: float, tiled: bool) -> tuple:
     """Unit descent direction at cell n, rounded to float32 as navfn stores it; (0, 0) on the
     first and last rows and where the gradient vanishes.
 
@@ -46,11 +57,11 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tu
     """
     if n < nx or n > ns - nx:
         return 0.0, 0.0
-    cv = pot[n]
-    pl = pot[n - 1]
-    pr = pot[n + 1]
-    pu = pot[n - nx]
-    pd = pot[n + nx]
+    cv = _at(pot, n, nx, ntx, inv_nx, tiled)
+    pl = _at(pot, n - 1, nx, ntx, inv_nx, tiled)
+    pr = _at(pot, n + 1, nx, ntx, inv_nx, tiled)
+    pu = _at(pot, n - nx, nx, ntx, inv_nx, tiled)
+    pd = _at(pot, n + nx, nx, ntx, inv_nx, tiled)
     dx = 0.0
     dy = 0.0
     if cv >= POT_HIGH:  # inside an obstacle: head for a reached neighbour
@@ -77,16 +88,29 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tu
     return 0.0, 0.0
 
 
+@njit(cache=True, inline="always")
+def _unreached_near(pot: np.ndarray, stc: int, nx: int, ntx: int, inv_nx: float, tiled: bool
+                    ) -> bool:
+    """Whether cell ``stc`` or one of its 8 neighbours has no potential."""
+    for st in (stc - nx - 1, stc - nx, stc - nx + 1, stc - 1, stc, stc + 1, stc + nx - 1,
+               stc + nx, stc + nx + 1):
+        if _at(pot, st, nx, ntx, inv_nx, tiled) >= POT_HIGH:
+            return True
+    return False
+
+
 @njit(cache=True)
 def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float,
-                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float
-                  ) -> tuple:
+                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float,
+                  tiled: bool = False) -> tuple:
     """Descend from (from_x, from_y) (cells, fractional allowed) to the seed at (to_x, to_y).
 
     Returns ``(ok, xy)`` with ``xy`` an (N, 2) float64 array of cell coordinates from the start of
-    the descent to the seed.
+    the descent to the seed. With ``tiled`` the potential is in the wavefront's tiled layout.
     """
     ns = nx * ny
+    ntx = (nx + TILE - 1) // TILE
+    inv_nx = 1.0 / nx
     stc = int(from_y) * nx + int(from_x)
     dx = from_x - int(from_x)
     dy = from_y - int(from_y)
@@ -109,7 +133,7 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
         if stop_mode == STOP_NEAR_NEUTRAL:
             near = stc + _round_half_away(dx) + nx * _round_half_away(dy)
             near = max(0, min(ns - 1, near))
-            if pot[near] < 50.0:
+            if _at(pot, near, nx, ntx, inv_nx, tiled) < 50.0:
                 xs[npath] = to_x
                 ys[npath] = to_y
                 npath += 1
@@ -130,27 +154,25 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
                        and ys[npath - 1] == ys[npath - 3])
         up = stc + nx
         dn = stc - nx
-        if (pot[stc] >= POT_HIGH or pot[stc + 1] >= POT_HIGH or pot[stc - 1] >= POT_HIGH
-                or pot[up] >= POT_HIGH or pot[up + 1] >= POT_HIGH or pot[up - 1] >= POT_HIGH
-                or pot[dn] >= POT_HIGH or pot[dn + 1] >= POT_HIGH or pot[dn - 1] >= POT_HIGH
-                or oscillating):
+        if oscillating or _unreached_near(pot, stc, nx, ntx, inv_nx, tiled):
             # grid step to the lowest 8-neighbour; the C++ compares against an int copy
             minc = stc
-            minp = _int_trunc(pot[stc])
+            minp = _int_trunc(_at(pot, stc, nx, ntx, inv_nx, tiled))
             for st in (dn - 1, dn, dn + 1, stc - 1, stc + 1, up - 1, up, up + 1):
-                if pot[st] < minp:
-                    minp = _int_trunc(pot[st])
+                v = _at(pot, st, nx, ntx, inv_nx, tiled)
+                if v < minp:
+                    minp = _int_trunc(v)
                     minc = st
             stc = minc
             dx = 0.0
             dy = 0.0
-            if pot[stc] >= POT_HIGH:
+            if _at(pot, stc, nx, ntx, inv_nx, tiled) >= POT_HIGH:
                 break
         else:
-            gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad)
-            gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad)
-            gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad)
-            gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad)
+            gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
+            gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+            gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
+            gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
             x1 = (1.0 - dx) * gx00 + dx * gx10
             x2 = (1.0 - dx) * gx01 + dx * gx11
             gx = (1.0 - dy) * x1 + dy * x2

@@ -531,14 +531,16 @@ def reset_buffers(pot: np.ndarray, gate: np.ndarray, costs: np.ndarray, lut_push
 class Workspace:
     """Per-map-size buffers reused from plan to plan (ROS reallocates them on every plan).
 
-    ``tiled`` None picks the tiled layout for maps of ``TILED_MIN_CELLS`` or more; the row-major
-    potential ``pot`` is there either way after ``run_wavefront``.
+    ``tiled`` None picks the tiled layout for maps of ``TILED_MIN_CELLS`` or more; after
+    ``run_wavefront`` the potential is in ``pot`` (row-major) unless the run kept it tiled
+    (``last_potential``).
     """
 
     def __init__(self, tiled: bool | None = None) -> None:
         self.shape: tuple[int, int] = (0, 0)
         self.want_tiled = tiled
         self.tiled = False
+        self.pot_tiled = False  # the last run left its potential in tpot only
 
     def ensure(self, nx: int, ny: int) -> None:
         if self.shape == (nx, ny):
@@ -546,6 +548,7 @@ class Workspace:
         ns = nx * ny
         self.shape = (nx, ny)
         self.tiled = ns >= TILED_MIN_CELLS if self.want_tiled is None else self.want_tiled
+        self.pot_tiled = False
         self.pot = np.empty(ns, np.float32)
         # Whole-map queues: current and next hold a cell at most once, so they cannot overflow;
         # the overflow queue grows itself in the rare case its repeats outgrow the map.
@@ -561,14 +564,33 @@ class Workspace:
         else:
             self.gate = np.empty(ns, np.float32)
 
+    def last_potential(self) -> tuple[np.ndarray, bool]:
+        """The last run's potential (flat) and whether it is in the tiled layout."""
+        return (self.tpot, True) if self.pot_tiled else (self.pot, False)
+
+
+def layout_index(cells: np.ndarray | int, nx: int, tiled: bool) -> np.ndarray | int:
+    """Row-major flat cell indices as indices into a flat grid in the row-major or the tiled
+    (``tile_index``) layout."""
+    if not tiled:
+        return cells
+    x, y = cells % nx, cells // nx
+    ntx = (nx + TILE - 1) // TILE
+    return ((((y >> TILE_SHIFT) * ntx + (x >> TILE_SHIFT)) << (2 * TILE_SHIFT))
+            + ((y & (TILE - 1)) << TILE_SHIFT) + (x & (TILE - 1)))
+
 
 def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int,
                   seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
                   target: int, threshold: float, increment: float, max_cycles: int,
-                  quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0) -> tuple:
+                  quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0,
+                  row_major: bool = True) -> tuple:
     """``propagate`` on the workspace (``ensure`` it first) from a fresh start, in the tiled
-    layout when the workspace uses it; the row-major potential ends in ``ws.pot``. ``costs`` is
-    the flat row-major uint8 costmap, ``tables`` the ``kernel_tables``."""
+    layout when the workspace uses it. The potential ends in ``ws.pot`` (row-major); with
+    ``row_major`` false a tiled run leaves it in ``ws.tpot`` instead (converting it back costs
+    ~5 % of a 4000^2 plan), see ``last_potential``. ``costs`` is the flat row-major uint8
+    costmap, ``tables`` the ``kernel_tables``."""
+    ws.pot_tiled = False
     if not ws.tiled:
         reset_buffers(ws.pot, ws.gate, costs, tables[0], nx, ny)
         return propagate(costs, tables, nx, ny, ws.pot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
@@ -579,5 +601,8 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
     out = propagate(ws.tcosts, tables, nx, ny, ws.tpot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
                     seed_cells, seed_pots, push_cells, target, threshold, increment, max_cycles,
                     quadratic, hkind, hscale, True)
-    untile_pot(ws.tpot, nx, ny, ws.pot)
+    if row_major:
+        untile_pot(ws.tpot, nx, ny, ws.pot)
+    else:
+        ws.pot_tiled = True
     return out
