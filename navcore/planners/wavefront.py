@@ -323,10 +323,11 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                 for i in range(ncur):
                     m = cur[i]
                     gate[m] = lut_push[costs[m]]
+            ahead_end = np.intp(ncur) - PREFETCH_AHEAD  # signed: an int/uint mix compares as float
             for i in range(ncur):
                 # unsigned indices: numba then skips its negative-index wraparound test
                 n = np.uintp(cur[i])
-                if i + PREFETCH_AHEAD < ncur:
+                if i < ahead_end:
                     # the front's lines come from L3 or memory: ask for those of a cell a few
                     # places ahead in the queue while this one is updated (same results)
                     f = np.uintp(cur[i + PREFETCH_AHEAD])
