@@ -9,7 +9,7 @@ time (equal to wall time on an idle machine); the wall figure is printed too, lo
 other jobs share the cores. Each figure pools ``--runs`` wanderers (seeds 0, 1, ...): the laser
 noise steers a wanderer, and one path alone can sit ~7 % above or below the others.
 
-    python bench/bench_sim.py [--seconds 60] [--runs 4] [--json]
+    python bench/bench_sim.py [--seconds 60] [--runs 8] [--json]
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ def run(world: World, seconds: float, imu: bool, seed: int = 0) -> tuple[float, 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=60.0, help="simulated seconds per run")
-    ap.add_argument("--runs", type=int, default=4, help="wanderers (seeds 0, 1, ...) pooled")
+    ap.add_argument("--runs", type=int, default=8, help="wanderers (seeds 0, 1, ...) pooled")
     ap.add_argument("--json", action="store_true", help="print a JSON line of figures last")
     args = ap.parse_args()
     world, name = load_world()

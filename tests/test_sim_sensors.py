@@ -121,13 +121,34 @@ def test_range_noise_has_the_configured_spread():
     assert errs.std() == pytest.approx(0.03, rel=0.05)
 
 
-@pytest.mark.parametrize("n", [0, 1, 2, 7, 720, 2500])
-def test_laser_noise_stream_is_the_legacy_numpy_one(n):
-    """The kernel's own generator draws exactly what numpy's RandomState(seed) draws (and what
-    numba's np.random gave before), so scans did not change when it replaced numba's."""
-    for seed in (0, 1, 12345, 2 ** 32 - 1, 3_000_000_019):
-        want = np.random.RandomState(seed).standard_normal(n)
-        assert np.array_equal(standard_normals(seed, n), want)
+def test_laser_noise_stream_is_seeded_and_standard_normal():
+    """The kernel's own generator: one seed one stream (a prefix of a longer draw), other seeds
+    other streams, and the draws are N(0, 1): moments, tail mass beyond the ziggurat's base
+    strip, no lag-one correlation, and a Kolmogorov-Smirnov distance below its 1% critical
+    value."""
+    for n in (0, 1, 2, 7, 720):
+        a = standard_normals(12345, n)
+        assert a.shape == (n,) and np.array_equal(a, standard_normals(12345, n))
+        assert np.array_equal(a, standard_normals(12345, 2500)[:n])
+    assert not np.array_equal(standard_normals(1, 720), standard_normals(2, 720))
+    # neighbouring seeds (the laser draws one a scan) start unrelated streams, not shifted copies
+    a, b = standard_normals(5, 400), standard_normals(6, 400)
+    assert not np.isin(a, b).any()
+    r = 3.6541528853610088
+    tail = math.erfc(r / math.sqrt(2.0))  # P(|z| > r)
+    for seed in (0, 2 ** 32 - 1):
+        z = standard_normals(seed, 400_000)
+        n = len(z)
+        assert abs(z.mean()) < 4.0 / math.sqrt(n)
+        assert abs(z.var() - 1.0) < 4.0 * math.sqrt(2.0 / n)
+        assert abs((z ** 4).mean() - 3.0) < 4.0 * math.sqrt(96.0 / n)
+        assert abs(np.mean(np.abs(z) > r) - tail) < 4.0 * math.sqrt(tail / n)
+        assert abs(np.corrcoef(z[:-1], z[1:])[0, 1]) < 4.0 / math.sqrt(n)
+        s = np.sort(z[:100_000])
+        cdf = 0.5 * (1.0 + np.array([math.erf(v / math.sqrt(2.0)) for v in s]))
+        k = np.arange(len(s))
+        d = max(np.max((k + 1) / len(s) - cdf), np.max(cdf - k / len(s)))
+        assert d < 1.63 / math.sqrt(len(s))
 
 
 # --------------------------------------------------------------------------- odometry noise
