@@ -546,15 +546,12 @@ def reference_wavefront(cost_lut: np.ndarray, block: float, truncate: bool, cost
     return bool(pot[target] < 1e10), updates, pot
 
 
-@pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
-def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
-    """The compiled kernel (queue flags and push costs folded into one float32 gate, one variant
-    per update/search/layout) visits cells exactly as the plain propagation above: same updates,
-    bit-identical potentials, row-major and tiled, on random costmaps and band widths."""
+def kernel_agrees_with_reference(quadratic: bool, hkind: int, trials: int = 12) -> None:
+    """The compiled kernel against ``reference_wavefront`` on random costmaps (see the test)."""
     from navcore.planners.wavefront import Workspace, kernel_tables, run_wavefront
 
     rng = np.random.default_rng(21)
-    for trial in range(12):
+    for trial in range(trials):
         nx, ny = int(rng.integers(6, 30)), int(rng.integers(6, 30))
         costs = random_costmap(rng, nx, ny).costs
         lut = global_planner_cost_table(253, int(rng.integers(5, 80)),
@@ -580,3 +577,39 @@ def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: in
                 band, 2 * nx * ny, quadratic, hkind, hscale)
             assert (reached, updates) == ref[:2], (trial, tiled)
             np.testing.assert_array_equal(ws.pot, ref[2])
+
+
+@pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
+def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
+    """The compiled kernel (queue flags and push costs folded into one float32 gate, the four
+    pushes of an update as one vector step, one variant per update/search/layout) visits cells
+    exactly as the plain propagation above: same updates, bit-identical potentials, row-major
+    and tiled, on random costmaps and band widths."""
+    kernel_agrees_with_reference(quadratic, hkind)
+
+
+def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -> None:
+    """The pushed cells are appended with a compressing store on AVX-512 CPUs and one store per
+    neighbour elsewhere: compile for a Haswell (no AVX-512; a fresh numba cache) and check that
+    form against the reference too."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = (
+        "import sys\n"
+        f"sys.path.insert(0, {str(Path(__file__).parent)!r})\n"
+        "from numba.core.registry import cpu_target\n"
+        "assert '+avx512vl' not in cpu_target.target_context.codegen()._tm_features\n"
+        "import test_planners as t\n"
+        "t.kernel_agrees_with_reference(True, 0, trials=6)\n"
+        "t.kernel_agrees_with_reference(False, 1, trials=6)\n"
+        "print('agrees')\n")
+    features = ("+64bit,+avx,+avx2,+bmi,+bmi2,+cmov,+cx16,+f16c,+fma,+lzcnt,+movbe,+popcnt,+sse,"
+                "+sse2,+sse3,+sse4.1,+sse4.2,+ssse3,+xsave")
+    env = dict(os.environ, NUMBA_CPU_NAME="haswell", NUMBA_CPU_FEATURES=features,
+               NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
+                         timeout=900)
+    assert out.returncode == 0 and "agrees" in out.stdout, out.stderr[-3000:]
