@@ -97,6 +97,12 @@ class Twist:
 _TWIST_WRITERS = _slot_writers(Twist, "vx", "vy", "wz")
 
 
+# the default intensities: one shared empty read-only array (a fresh one per scan cost ~0.7 us,
+# a tenth of building a simulated scan message)
+_NO_INTENSITIES = np.zeros(0, np.float32)
+_NO_INTENSITIES.setflags(write=False)
+
+
 @dataclass(slots=True)
 class LaserScan:
     """sensor_msgs/LaserScan. ``ranges`` is float32; beam i points at angle_min + i*angle_increment.
@@ -113,7 +119,7 @@ class LaserScan:
     range_min: float
     range_max: float
     ranges: np.ndarray
-    intensities: np.ndarray = field(default_factory=lambda: np.zeros(0, np.float32))
+    intensities: np.ndarray = field(default_factory=lambda: _NO_INTENSITIES)
     frame_id: str = "laser"
 
     def __post_init__(self) -> None:

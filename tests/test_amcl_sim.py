@@ -80,18 +80,27 @@ def spin_run(params: dict, kidnap_to: Pose2D | None, seconds: float, seed: int =
 def test_kidnapped_robot_recovers_with_recovery_alphas_and_not_without() -> None:
     """The particle count is fixed here: amcl's average weight is sum(w p) / N, so while KLD
     shrinks N after convergence the average rises and w_slow (alpha 0.001) lags far below w_fast
-    for thousands of updates, which hides a kidnapping from the recovery test (measured)."""
+    for thousands of updates, which hides a kidnapping from the recovery test (measured).
+
+    Recovery is a matter of chance: the injected particles must land near the true pose before
+    the cloud settles on a place whose scans fit about as well. Measured over 48 seeds, 14 runs
+    relocalised within a minute of the kidnapping (21-52 s after it) and the rest never did in
+    three minutes; so the test asks it of some of eight seeds, and of none without the alphas."""
     away = Pose2D(8.0, 4.4, 2.0)  # the upper part of the third room
     fixed = {"max_particles": 2000, "min_particles": 2000}
-    with_rec, _ = spin_run(fixed, away, 75.0)  # node defaults: 0.001 / 0.1
-    without, _ = spin_run(dict(fixed, recovery_alpha_slow=0.0, recovery_alpha_fast=0.0), away,
-                          75.0)
     k = 149  # the scan at which the robot is carried away (t = 15 s)
-    assert max(with_rec[20:k]) < 0.15 and max(without[20:k]) < 0.15  # both tracked first
-    assert with_rec[k + 5] > 3.0 and without[k + 5] > 3.0  # both were fooled
-    # measured: relocalised about 28 s after the kidnapping, then within 0.1 m
-    assert max(with_rec[-150:]) < 0.2
-    assert min(without[-150:]) > 3.0  # never found it again
+    recovered: dict[bool, list[int]] = {True: [], False: []}
+    for alphas in (True, False):
+        params = fixed if alphas else dict(fixed, recovery_alpha_slow=0.0,
+                                           recovery_alpha_fast=0.0)  # else the node defaults
+        for seed in range(8):
+            errs, _ = spin_run(params, away, 75.0, seed=seed)
+            assert max(errs[20:k]) < 0.15  # tracked first
+            assert errs[k + 5] > 3.0  # fooled by the kidnapping
+            if max(errs[-150:]) < 0.2:  # relocalised and within 0.2 m for the last 15 s
+                recovered[alphas].append(seed)
+    assert len(recovered[True]) >= 1  # measured: seeds 2 and 3, 24.6 s and 40.1 s after it
+    assert recovered[False] == []
 
 
 def cloud_spread(params: dict, seed: int, laser: bool) -> float:

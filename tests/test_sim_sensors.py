@@ -210,6 +210,37 @@ def test_omni_odometry_noise_matches_the_alpha_model():
     assert inc[:, 1].var() == pytest.approx(0.25 * t * t, rel=0.1)
 
 
+@pytest.mark.parametrize("kinematics", ["diff", "omni"])
+def test_odometry_twist_covariance_is_the_alpha_model_over_one_period(kinematics):
+    """Each message's twist covariance is amcl's variance of one odometry period's motion at the
+    published twist, divided by the period squared; the pose covariance is the fixed diagonal."""
+    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    robot = dict(ALPHAS, kinematics=kinematics, odom_rate=50.0, laser={"enabled": False},
+                 imu={"enabled": False})
+    sim, clock = make(world, robot)
+    a1, a2, a3, a4, a5 = 0.2, 0.1, 0.3, 0.15, 0.25
+    p = 0.02
+    seen, strafe_var = set(), []
+    for k in range(40):
+        sim.base.send(Twist(0.4, 0.1 if kinematics == "omni" else 0.0, 0.6 if k < 20 else -0.3))
+        clock.advance(0.05)
+        sim.step()
+        odom = sim.base.odometry()
+        seen.add(odom.stamp)
+        tw = odom.twist
+        t2 = (tw.vx ** 2 + tw.vy ** 2) * p * p
+        r2 = (tw.wz * p) ** 2
+        strafe = (a4 * r2 + a5 * t2) / (p * p) if kinematics == "omni" else 0.0
+        expect = np.diag([(a3 * t2 + a4 * r2) / (p * p) + 1e-9, strafe + 1e-9,
+                          (a1 * r2 + a2 * t2) / (p * p) + 1e-9])
+        np.testing.assert_allclose(odom.twist_covariance, expect, rtol=1e-12, atol=0.0)
+        np.testing.assert_array_equal(odom.pose_covariance, np.diag([1e-3] * 3))
+        assert sim.base.odometry() is odom  # read again before the next publication: same
+        strafe_var.append(odom.twist_covariance[1, 1])
+    assert len(seen) == 40  # a new message every read (odometry 50 Hz, reads 20 Hz)
+    assert (max(strafe_var) > 1e-3) == (kinematics == "omni")
+
+
 def test_odometry_noise_step_drives_backwards_without_half_turn_noise():
     # straight back 1 cm: rot1 = pi, but its noise term uses the distance to pi, i.e. 0
     n = np.array([1.0, 0.0, 1.0])

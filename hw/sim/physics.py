@@ -28,14 +28,17 @@ VX, VY, WZ = 3, 4, 5          # wheel (motor) body velocity, tracks the command
 OX, OY, OTH = 6, 7, 8         # noise-free wheel-odometry pose (integrates what the wheels did)
 AVX, AVY, AWZ = 9, 10, 11     # actual body velocity (after slip, faults and contacts)
 DIST, ROT = 12, 13            # wheel distance and rotation so far (battery drain)
+# the published odometry message, one block NOX..O_STAMP (read with one conversion)
 NOX, NOY, NOTH = 14, 15, 16   # published (noisy) odometry pose
-PWX, PWY, PWTH = 17, 18, 19   # wheel-odometry pose at the last odometry publication
-OTX, OTY, OTW = 20, 21, 22    # published odometry twist
-O_STAMP, O_K, O_NEXT, O_CUR = 23, 24, 25, 26  # step of last publication, count, next, normals
-I_YAW, I_PTH, I_PVX, I_PVY = 27, 28, 29, 30   # imu yaw; true yaw and velocity at last sample
-I_RATE, I_AX, I_AY = 31, 32, 33               # published imu readings
-I_STAMP, I_K, I_NEXT, I_CUR = 34, 35, 36, 37  # as for odometry (I_NEXT < 0: no imu)
-STATE_SIZE = 38
+OTX, OTY, OTW = 17, 18, 19    # published odometry twist
+OVX, OVY, OVW = 20, 21, 22    # its variances (diagonal of the twist covariance)
+O_STAMP = 23                  # step of the last publication
+PWX, PWY, PWTH = 24, 25, 26   # wheel-odometry pose at the last odometry publication
+O_K, O_NEXT, O_CUR = 27, 28, 29  # publications so far, step of the next, normals cursor
+I_YAW, I_PTH, I_PVX, I_PVY = 30, 31, 32, 33   # imu yaw; true yaw and velocity at last sample
+I_RATE, I_AX, I_AY = 34, 35, 36               # published imu readings
+I_STAMP, I_K, I_NEXT, I_CUR = 37, 38, 39, 40  # as for odometry (I_NEXT < 0: no imu)
+STATE_SIZE = 41
 
 # limits vector indices (constants of the robot)
 (L_ACC_X, L_ACC_Y, L_ACC_TH, L_MAX_X, L_MAX_Y, L_MAX_TH, L_OMNI, L_SEP, L_STEP, L_RMAX,
@@ -324,6 +327,15 @@ def publish_odometry(st: np.ndarray, lim: np.ndarray, g: int, dt: float,
         st[NOX] = nx
         st[NOY] = ny
         st[NOTH] = nth
+    # the twist covariance of amcl's model over one nominal period (diff drive: no strafe)
+    period = lim[L_ODOM_P] * dt
+    scale = 1.0 / (period * period)
+    vx, vy, wz = st[OTX], st[OTY], st[OTW]
+    t2 = (vx * vx + vy * vy) * period * period
+    r2 = (wz * period) ** 2
+    st[OVX] = (lim[L_A3] * t2 + lim[L_A4] * r2) * scale + 1e-9
+    st[OVY] = ((lim[L_A4] * r2 + lim[L_A5] * t2) * scale if lim[L_OMNI] > 0.5 else 0.0) + 1e-9
+    st[OVW] = (lim[L_A1] * r2 + lim[L_A2] * t2) * scale + 1e-9
     st[PWX] = st[OX]
     st[PWY] = st[OY]
     st[PWTH] = st[OTH]

@@ -29,6 +29,10 @@ _EPS = 1e-9
 # as robot_pose_ekf use the relative motion), shared and read-only
 _ODOM_POSE_COV = np.diag([1e-3, 1e-3, 1e-3])
 _ODOM_POSE_COV.setflags(write=False)
+_ODOM_BLOCK = slice(ph.NOX, ph.O_STAMP + 1)
+_O_STAMP = ph.O_STAMP
+_C_FIRST = ph.C_FIRST
+_NEVER = 2 ** 62  # the step of the next scan when there is no laser
 
 
 @dataclass(frozen=True)
@@ -128,7 +132,6 @@ class Simulator:
         lim[ph.L_STEP] = min(0.5 * world.resolution, 0.025)
         lim[ph.L_RMAX] = rmax
         self._lim = lim
-        self._omni = b.kinematics == "omni"
         # plain copies of values read every chunk (Parameters lookups are slow in a hot loop)
         self._bumper_hold = float(b.bumper_hold)
         self._wheel_slip = float(b.wheel_slip)
@@ -157,15 +160,17 @@ class Simulator:
         lim[ph.L_A1:ph.L_A5 + 1] = self._alphas
         self._noisy_odom = any(a > 0.0 for a in self._alphas)
         self._odom_msg: Odometry | None = None
+        self._odom_msg_step = -1.0
         # laser
         lc = self.config.laser
         self._scan_msg: LaserScan | None = None
         self._scan_k = 0
-        self._next_scan = 0 if lc is not None else None
+        self._next_scan = 0 if lc is not None else _NEVER
         if lc is not None:
             self._scan_period = (1.0 / lc.rate) / self._dt
             self._beams = np.ascontiguousarray(lc.angles)
             self._no_return = math.inf if lc.no_return_inf else lc.range_max
+            self._laser_mount = (lc.mount.x, lc.mount.y, lc.mount.theta)
             self._laser_seeds: list[int] = []
         # imu
         ic = self.config.imu
@@ -179,12 +184,10 @@ class Simulator:
             st[ph.I_YAW] = normalize_angle(start.theta + self.config.imu_mount.theta)
             st[ph.I_NEXT] = 0.0
         self._odom_period_steps = float(lim[ph.L_ODOM_P])
-        self._odom_period = self._odom_period_steps * self._dt  # s, for the twist covariance
-        self._odom_scale = 1.0 / (self._odom_period * self._odom_period)
         self._imu_period_steps = float(lim[ph.L_IMU_P])
-        self._normals_left = 0
+        self._normals_until = -1
         self._battery_check_at = -math.inf
-        self._refill_normals(1)
+        self._refill_normals(0, 1)
         ph.publish_odometry(st, lim, 0, self._dt, self._odom_normals)
         if ic is not None:
             ph.publish_imu(st, lim, 0, self._dt, self._imu_normals)
@@ -218,9 +221,7 @@ class Simulator:
         while self._step < target:
             s = self._step
             now = t0 + s * dt
-            end = target
-            if self._next_scan is not None and self._next_scan < end:
-                end = self._next_scan
+            end = min(target, self._next_scan)
             moving = False
             if world.dynamic or self._faults:
                 boundary = min(world.next_change(now), self._next_fault_change(now))
@@ -230,7 +231,8 @@ class Simulator:
                 if moving:
                     end = min(end, s + 2)  # moving obstacles advance every 20 ms or so
                 self._update_fault_vector(now)
-            self._refill_normals(end - s)
+            if end > self._normals_until:
+                self._refill_normals(s, end)
             circles, segments = world.shapes_at(now)
             n_cmd = self._cmd_until - s
             if now >= self._battery_check_at and self._battery_flat(now):
@@ -240,10 +242,10 @@ class Simulator:
                              world.origin_y,
                              world.resolution, circles, segments, contact, s,
                              self._odom_normals, self._imu_normals)
-            if contact[ph.C_FIRST] >= 0.0:
+            if contact[_C_FIRST] >= 0.0:
                 self._record_contact(now)
             self._step = end
-            if self._next_scan is not None and end >= self._next_scan:
+            if end >= self._next_scan:
                 self._publish_scan_if_due()
 
     def _record_contact(self, now: float) -> None:
@@ -270,17 +272,15 @@ class Simulator:
         self._battery_check_at = now + 0.999 * f * capacity / max(top, 1e-12)
         return False
 
-    def _refill_normals(self, n_steps: int) -> None:
-        """Make sure the odometry and IMU noise buffers hold enough draws for n_steps. The
-        kernel's cursors are read only when a cheap upper bound on the use says it may be low."""
-        need = 3 * (int(n_steps / self._odom_period_steps) + 2)
-        if self._imu_period_steps > 0.0:
-            need = max(need, 3 * (int(n_steps / self._imu_period_steps) + 2))
-        if self._normals_left >= need:
-            self._normals_left -= need
-            return
+    def _refill_normals(self, s: int, end: int) -> None:
+        """Refill the odometry and IMU noise buffers at step s so that they hold the draws of every
+        sample due up to step ``end`` and beyond; ``_normals_until`` is then the last step they
+        are sure to cover (3 draws a sample, at most one sample more than whole periods fit)."""
         st = self._st
-        n = max(need, 3072)
+        period = self._odom_period_steps
+        if self._imu_period_steps > 0.0:
+            period = min(period, self._imu_period_steps)
+        n = max(3 * (int((end - s) / period) + 2), 3072)
         c = int(st[ph.O_CUR])
         fresh = self._rng_odom.standard_normal(n) if self._noisy_odom else np.zeros(n)
         self._odom_normals = np.concatenate([self._odom_normals[c:], fresh])
@@ -292,7 +292,7 @@ class Simulator:
             self._imu_normals = np.concatenate([self._imu_normals[c:], fresh])
             st[ph.I_CUR] = 0.0
             left = min(left, len(self._imu_normals))
-        self._normals_left = left - need
+        self._normals_until = s + int((left // 3 - 1) * period)
 
     # ----------------------------------------------------------------- commands and faults
     def _command(self, cmd: Twist) -> None:
@@ -390,7 +390,7 @@ class Simulator:
 
     # ----------------------------------------------------------------- sensors
     def _publish_scan_if_due(self) -> None:
-        if self._next_scan is not None and self._step >= self._next_scan:
+        if self._step >= self._next_scan:
             self._publish_scan()
             self._scan_k += 1
             self._next_scan = _ceil_step(self._scan_k * self._scan_period)
@@ -398,26 +398,19 @@ class Simulator:
     def _odometry(self) -> Odometry:
         """The newest odometry message, built on first read after each publication."""
         st = self._st
-        stamp = self._t0 + st.item(ph.O_STAMP) * self._dt
         msg = self._odom_msg
-        if msg is not None and msg.stamp == stamp:
+        if msg is not None and st.item(_O_STAMP) == self._odom_msg_step:
             return msg
-        # one conversion of the block NOX..OTW (published pose, wheel pose, published twist)
-        x, y, th, _, _, _, vx, vy, wz = st[ph.NOX:ph.OTW + 1].tolist()
-        a1, a2, a3, a4, a5 = self._alphas
-        period = self._odom_period
-        t2 = (vx * vx + vy * vy) * period * period
-        r2 = (wz * period) ** 2
-        scale = self._odom_scale
-        var_s = (a4 * r2 + a5 * t2) * scale if self._omni else 0.0
+        # the kernel keeps the whole message in one block: a single conversion
+        x, y, th, vx, vy, wz, var_x, var_y, var_w, step = st[_ODOM_BLOCK].tolist()
         tc = np.zeros((3, 3))
-        tc[0, 0] = (a3 * t2 + a4 * r2) * scale + 1e-9
-        tc[1, 1] = var_s + 1e-9
-        tc[2, 2] = (a1 * r2 + a2 * t2) * scale + 1e-9
-        self._odom_msg = Odometry(stamp, Pose2D(x, y, th),
-                                  Twist(vx, vy, wz), pose_covariance=_ODOM_POSE_COV,
-                                  twist_covariance=tc)
-        return self._odom_msg
+        tc[0, 0] = var_x
+        tc[1, 1] = var_y
+        tc[2, 2] = var_w
+        self._odom_msg = msg = Odometry(self._t0 + step * self._dt, Pose2D(x, y, th),
+                                        Twist(vx, vy, wz), _ODOM_POSE_COV, tc)
+        self._odom_msg_step = step
+        return msg
 
     def _imu(self) -> Imu | None:
         """The newest IMU message, built on first read after each sample."""
@@ -446,9 +439,9 @@ class Simulator:
     def _laser_xyt(self) -> tuple[float, float, float]:
         """``laser_pose`` as a plain tuple (no message object on the per-scan path)."""
         x, y, th = self._st[:3].tolist()
-        m = self.config.laser.mount
+        mx, my, mth = self._laser_mount
         c, s = math.cos(th), math.sin(th)
-        return x + c * m.x - s * m.y, y + s * m.x + c * m.y, normalize_angle(th + m.theta)
+        return x + c * mx - s * my, y + s * mx + c * my, normalize_angle(th + mth)
 
     def _next_laser_seed(self) -> int:
         """The next per-scan noise seed, drawn from the laser's stream 256 at a time."""
