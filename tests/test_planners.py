@@ -272,6 +272,100 @@ def test_gradient_path_is_shorter_than_grid_path_and_close_to_straight() -> None
     assert grid.path.length() > grad.path.length()
 
 
+def reference_gradient_path(pot: np.ndarray, nx: int, ny: int, fx: float, fy: float,
+                            stop_mode: int, tx: float, ty: float, max_steps: int,
+                            obs_grad: float) -> tuple:
+    """navfn's calcPath written plainly (every gradient computed afresh, no layouts)."""
+    ns, high = nx * ny, 1e10
+
+    def grad(n: int) -> tuple:
+        if n < nx or n > ns - nx:
+            return 0.0, 0.0
+        cv, pl, pr, pu, pd = pot[n], pot[n - 1], pot[n + 1], pot[n - nx], pot[n + nx]
+        dx = dy = 0.0
+        if cv >= high:
+            dx = -obs_grad if pl < high else obs_grad if pr < high else 0.0
+            dy = -obs_grad if pu < high else obs_grad if pd < high else 0.0
+        else:
+            # float32 differences summed in double, as the kernel does
+            dx = float(pl - cv if pl < high else 0.0) + float(cv - pr if pr < high else 0.0)
+            dy = float(pu - cv if pu < high else 0.0) + float(cv - pd if pd < high else 0.0)
+        norm = float(np.hypot(dx, dy))  # libm's, as compiled code calls
+        return ((float(np.float32(dx / norm)), float(np.float32(dy / norm))) if norm > 0.0
+                else (0.0, 0.0))
+
+    def half_away(v: float) -> int:
+        return int(math.floor(v + 0.5)) if v >= 0.0 else -int(math.floor(-v + 0.5))
+
+    fx, fy = float(fx), float(fy)
+    stc, dx, dy = int(fy) * nx + int(fx), fx - int(fx), fy - int(fy)
+    pts: list = []
+    for _ in range(max_steps):
+        px, py = stc % nx + dx, stc // nx + dy
+        if stop_mode == 0:
+            near = min(ns - 1, max(0, stc + half_away(dx) + nx * half_away(dy)))
+            if pot[near] < 50.0:
+                return True, pts + [(tx, ty)]
+        elif abs(px - tx) < 0.5 and abs(py - ty) < 0.5:
+            return True, pts + [(tx, ty)]
+        if stc < nx or stc >= ns - nx:
+            break
+        pts.append((px, py))
+        around = [stc + j * nx + i for j in (-1, 0, 1) for i in (-1, 0, 1)]
+        if (len(pts) > 2 and pts[-1] == pts[-3]) or any(pot[c] >= high for c in around):
+            minc, minp = stc, float(int(pot[stc]))
+            for c in (stc - nx - 1, stc - nx, stc - nx + 1, stc - 1, stc + 1, stc + nx - 1,
+                      stc + nx, stc + nx + 1):
+                if pot[c] < minp:
+                    minc, minp = c, float(int(pot[c]))
+            stc, dx, dy = minc, 0.0, 0.0
+            if pot[stc] >= high:
+                break
+            continue
+        (x00, y00), (x10, y10) = grad(stc), grad(stc + 1)
+        (x01, y01), (x11, y11) = grad(stc + nx), grad(stc + nx + 1)
+        gx = (1 - dy) * ((1 - dx) * x00 + dx * x10) + dy * ((1 - dx) * x01 + dx * x11)
+        gy = (1 - dy) * ((1 - dx) * y00 + dx * y10) + dy * ((1 - dx) * y01 + dx * y11)
+        if gx == 0.0 and gy == 0.0:
+            break
+        ss = 0.5 / float(np.hypot(gx, gy))
+        dx, dy = dx + gx * ss, dy + gy * ss
+        stc += int(dx > 1.0) - int(dx < -1.0) + nx * (int(dy > 1.0) - int(dy < -1.0))
+        dx += int(dx < -1.0) - int(dx > 1.0)
+        dy += int(dy < -1.0) - int(dy > 1.0)
+        if stc < 0 or stc >= ns:
+            break
+    return False, pts
+
+
+def test_gradient_path_matches_the_plain_reference() -> None:
+    """The compiled descent (corner gradients kept while it stays in a cell, one max for the
+    unreached-neighbour test) gives exactly the plain transcription's points, both stop modes,
+    on the potentials of random maps."""
+    from navcore.planners.traceback import gradient_path
+
+    rng = np.random.default_rng(8)
+    compared = 0
+    for _ in range(12):
+        nx, ny = int(rng.integers(20, 70)), int(rng.integers(20, 70))
+        cm = random_costmap(rng, nx, ny)
+        free = np.argwhere(cm.costs[1:-1, 1:-1] == 0) + 1
+        planner = NavFn(cm, {"visualize_potential": True})
+        for _ in range(3):
+            (sy, sx), (gy, gx) = free[rng.integers(len(free), size=2)]
+            planner.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
+            pot = planner._ws.pot
+            for stop, tx, ty in ((0, float(sx), float(sy)), (1, sx + 0.3, sy - 0.2)):
+                args = (pot, nx, ny, gx + 0.25, gy + 0.1, stop, float(tx), float(ty), 4 * nx * ny,
+                        254.0)
+                ok, xy = gradient_path(*args)
+                ref_ok, ref = reference_gradient_path(*args)
+                assert ok == ref_ok
+                np.testing.assert_array_equal(xy, np.array(ref, float).reshape(-1, 2))
+                compared += ok
+    assert compared >= 20
+
+
 def test_navfn_default_tolerance_plans_to_the_nearest_reachable_point() -> None:
     cm = walled(40, 30)
     goal = centre(cm, 20, 10)  # inside the wall

@@ -91,12 +91,16 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, ntx: 
 @njit(cache=True, inline="always")
 def _unreached_near(pot: np.ndarray, stc: int, nx: int, ntx: int, inv_nx: float, tiled: bool
                     ) -> bool:
-    """Whether cell ``stc`` or one of its 8 neighbours has no potential."""
-    for st in (stc - nx - 1, stc - nx, stc - nx + 1, stc - 1, stc, stc + 1, stc + nx - 1,
-               stc + nx, stc + nx + 1):
-        if _at(pot, st, nx, ntx, inv_nx, tiled) >= POT_HIGH:
-            return True
-    return False
+    """Whether cell ``stc`` or one of its 8 neighbours has no potential (one max over the nine:
+    a loop over them or a chain of ``or`` tests took a third of a path's time)."""
+    up = stc + nx
+    dn = stc - nx
+    a = max(_at(pot, dn - 1, nx, ntx, inv_nx, tiled), _at(pot, dn, nx, ntx, inv_nx, tiled))
+    b = max(_at(pot, dn + 1, nx, ntx, inv_nx, tiled), _at(pot, stc - 1, nx, ntx, inv_nx, tiled))
+    c = max(_at(pot, stc, nx, ntx, inv_nx, tiled), _at(pot, stc + 1, nx, ntx, inv_nx, tiled))
+    d = max(_at(pot, up - 1, nx, ntx, inv_nx, tiled), _at(pot, up, nx, ntx, inv_nx, tiled))
+    e = _at(pot, up + 1, nx, ntx, inv_nx, tiled)
+    return max(max(max(a, b), max(c, d)), e) >= POT_HIGH
 
 
 @njit(cache=True)
@@ -119,6 +123,10 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
     ys = np.empty(cap, np.float64)
     npath = 0
     ok = False
+    # the four corner gradients of the last cell interpolated in: the fractional position moves
+    # half a cell a step within (-1, 1), so the next steps mostly stay in the same cell
+    gcell = -1
+    gx00 = gy00 = gx10 = gy10 = gx01 = gy01 = gx11 = gy11 = 0.0
     for _ in range(max_steps):
         if npath + 1 >= cap:
             cap *= 2
@@ -169,10 +177,12 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             if _at(pot, stc, nx, ntx, inv_nx, tiled) >= POT_HIGH:
                 break
         else:
-            gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
-            gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
-            gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
-            gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+            if stc != gcell:
+                gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                gcell = stc
             x1 = (1.0 - dx) * gx00 + dx * gx10
             x2 = (1.0 - dx) * gx01 + dx * gx11
             gx = (1.0 - dy) * x1 + dy * x2
