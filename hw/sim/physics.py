@@ -187,14 +187,15 @@ def _approach(v: float, target: float, step: float) -> float:
 
 
 @njit(cache=True)
-def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt: float,
+def physics_steps(st: np.ndarray, cvx: float, cvy: float, cwz: float, n_cmd: int, n_steps: int,
+                  dt: float,
                   lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
                   blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
                   circles: np.ndarray,
                   segments: np.ndarray, contact: np.ndarray, step0: int, odom_normals: np.ndarray,
                   imu_normals: np.ndarray) -> None:
-    """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; ``cmd``
-    (vx, vy, wz) holds for the first ``n_cmd`` of them (then the command has timed out: target
+    """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; the command
+    (cvx, cvy, cwz) holds for the first ``n_cmd`` of them (then the command has timed out: target
     zero). Odometry and IMU publish into ``st`` when due, drawing their noise from the normals
     buffers at the cursors ``st[O_CUR]`` / ``st[I_CUR]``. ``contact`` receives the first and last
     step with a blocked motion (-1: none), the pose and speed of the first."""
@@ -207,9 +208,9 @@ def physics_steps(st: np.ndarray, cmd: np.ndarray, n_cmd: int, n_steps: int, dt:
     rmax = lim[L_RMAX]
     for k in range(n_steps):
         if k < n_cmd:
-            tvx = min(max(cmd[0], -lim[L_MAX_X]), lim[L_MAX_X])
-            tvy = min(max(cmd[1], -lim[L_MAX_Y]), lim[L_MAX_Y]) if omni else 0.0
-            twz = min(max(cmd[2], -lim[L_MAX_TH]), lim[L_MAX_TH])
+            tvx = min(max(cvx, -lim[L_MAX_X]), lim[L_MAX_X])
+            tvy = min(max(cvy, -lim[L_MAX_Y]), lim[L_MAX_Y]) if omni else 0.0
+            twz = min(max(cwz, -lim[L_MAX_TH]), lim[L_MAX_TH])
         else:
             tvx = 0.0
             tvy = 0.0

@@ -141,7 +141,7 @@ class Simulator:
                          bp.voltage_full)
         self._alphas = (b.odom_alpha1, b.odom_alpha2, b.odom_alpha3, b.odom_alpha4,
                         b.odom_alpha5)
-        self._cmd = np.zeros(3)
+        self._cmd = (0.0, 0.0, 0.0)  # (vx, vy, wz), finite floats
         self._cmd_until = 0  # first step at which the current command has timed out
         self._timeout_steps = max(1, _ceil_step(b.cmd_vel_timeout / self._dt))
         self._contact = np.zeros(ph.CONTACT_SIZE)
@@ -237,7 +237,8 @@ class Simulator:
             n_cmd = self._cmd_until - s
             if now >= self._battery_check_at and self._battery_flat(now):
                 n_cmd = 0  # a flat battery: the motors stop
-            ph.physics_steps(self._st, self._cmd, n_cmd, end - s, dt, self._lim, self._faultv,
+            vx, vy, wz = self._cmd
+            ph.physics_steps(self._st, vx, vy, wz, n_cmd, end - s, dt, self._lim, self._faultv,
                              moving, self._fp, world.blocked, world.clearance, world.origin_x,
                              world.origin_y,
                              world.resolution, circles, segments, contact, s,
@@ -304,10 +305,7 @@ class Simulator:
         if not ok:
             self.rejected_commands += 1
             vx = vy = wz = 0.0
-        c = self._cmd
-        c[0] = vx
-        c[1] = vy
-        c[2] = wz
+        self._cmd = (vx, vy, wz)
         self._cmd_until = self._step + self._timeout_steps
 
     def add_fault(self, fault: Fault | Mapping[str, Any]) -> Fault:
@@ -369,7 +367,7 @@ class Simulator:
         if stop:
             for i in (ph.VX, ph.VY, ph.WZ, ph.AVX, ph.AVY, ph.AWZ):
                 st[i] = 0.0
-            self._cmd[:] = 0.0
+            self._cmd = (0.0, 0.0, 0.0)
         return self.overlapping()
 
     def overlapping(self) -> bool:
