@@ -48,8 +48,8 @@ altogether (duplicates allowed) saves ~25 % per update but costs 55 % more updat
 A single-pass (Fast-Marching-style) order cannot do much better here: with 10-neutral bands the
 kernel makes one update per passable cell (office maps, navfn: 809k updates for 805k passable
 cells at 1000^2, 3.25M for 3.26M at 2000^2), each reading its four neighbours once and checking
-four pushes. What
-is left is the cost of one update, ~25 ns at 1000^2, ~30 ns tiled at 2000^2 and 4000^2.
+four pushes. What is left is the cost of one update, ~25 ns at 1000^2, ~30 ns tiled at 2000^2
+and 4000^2.
 
 That cost was mostly waiting for memory: replaying the same updates in the recorded order without
 the queue takes ~11 ns each, and the front's lines come from L3 or memory (potential and gate
@@ -61,11 +61,11 @@ with the prefetch then beats the tiled copy at 2000^2 (118 vs 134 ms tiled witho
 at 2800^2 (184 vs 174 ms) or 4000^2 (608 vs 547 ms), hence ``TILED_MIN_CELLS``.
 
 With the memory waits hidden, the instructions count: the four push tests took ~48 of an
-update's ~110. They now run as one 4-lane vector step (``_push4``: compare, write the gates
-back, append the pushed cells with one compressing store on AVX-512): same pushes in the same
-order, same potentials; wavefront 16.83 -> 14.96 ms at 1000^2 and 79.0 -> 69.7 ms at 2000^2
-(navfn, interleaved A/B, min of 11 / 5). Without the compressing store (one store per
-neighbour, as on CPUs without AVX-512) the vector step gains nothing.
+update's ~110. They now run as one 4-lane vector step (``_push4_next``, ``_push4_over``:
+compare, write the gates back, append the pushed cells with one compressing store on AVX-512):
+same pushes in the same order, same potentials; wavefront 16.83 -> 14.96 ms at 1000^2 and
+79.0 -> 69.7 ms at 2000^2 (navfn, interleaved A/B, min of 11 / 5). Without the compressing store
+(one store per neighbour, as on CPUs without AVX-512) the vector step gains nothing.
 """
 
 from __future__ import annotations
@@ -407,7 +407,7 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                 if i + ahead < ncur:
                     # the front's lines come from L3 or memory: ask for those of a cell a few
                     # places ahead in the queue while this one is updated (same results)
-                    f = np.uintp(cur[i + PREFETCH_AHEAD])
+                    f = np.uintp(cur[i + ahead])
                     if tiled:
                         fy = (f >> tshift) & tmask
                         fd = tsize + ((tsize - fy) >> tshift) * vjump
