@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from hw.sim.sensors import odometry_noise_step, wrap_angle
+from hw.sim.sensors import odometry_noise_step, scan_ranges, wrap_angle
 from navcore.raycast import segment_blocked
 
 # state vector indices
@@ -53,6 +53,11 @@ FAULTS_SIZE = 3
 # contact info indices
 C_FIRST, C_X, C_Y, C_TH, C_LAST, C_SPEED = range(6)
 CONTACT_SIZE = 6
+
+# laser vector indices (constants of the laser): mount pose on base_link, first beam angle and
+# increment (laser frame), range limit, range noise and the value of a beam that hits nothing
+LS_MX, LS_MY, LS_MTH, LS_A0, LS_INC, LS_RMAX, LS_SIGMA, LS_NONE = range(8)
+LASER_SIZE = 8
 
 
 @njit(cache=True)
@@ -193,12 +198,41 @@ def physics_steps(st: np.ndarray, cvx: float, cvy: float, cwz: float, n_cmd: int
                   blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
                   circles: np.ndarray,
                   segments: np.ndarray, contact: np.ndarray, step0: int, odom_normals: np.ndarray,
-                  imu_normals: np.ndarray) -> None:
+                  imu_normals: np.ndarray, laser: np.ndarray, seed: int, out: np.ndarray) -> None:
     """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; the command
     (cvx, cvy, cwz) holds for the first ``n_cmd`` of them (then the command has timed out: target
     zero). Odometry and IMU publish into ``st`` when due, drawing their noise from the normals
     buffers at the cursors ``st[O_CUR]`` / ``st[I_CUR]``. ``contact`` receives the first and last
-    step with a blocked motion (-1: none), the pose and speed of the first."""
+    step with a blocked motion (-1: none), the pose and speed of the first. Unless ``out`` is
+    empty, the laser (``laser``, LS_* indices) then scans from the final pose into it with noise
+    stream ``seed`` (``scan_ranges``): a chunk that ends where a scan falls due is one call."""
+    _move(st, cvx, cvy, cwz, n_cmd, n_steps, dt, lim, faults, check_idle, fp, blocked, clear, ox,
+          oy, res, circles, segments, contact, step0, odom_normals, imu_normals)
+    if out.shape[0] > 0:
+        lx, ly, lth = laser_xyt(st, laser)
+        scan_ranges(clear, ox, oy, res, lx, ly, lth + laser[LS_A0], laser[LS_INC],
+                    laser[LS_RMAX], circles, segments, laser[LS_SIGMA], seed, laser[LS_NONE],
+                    out)
+
+
+@njit(cache=True)
+def laser_xyt(st: np.ndarray, laser: np.ndarray) -> tuple[float, float, float]:
+    """The laser's true pose in ``map``: base_link's (``st``) composed with the mount."""
+    th = st[TH]
+    c = math.cos(th)
+    s = math.sin(th)
+    mx = laser[LS_MX]
+    my = laser[LS_MY]
+    return (st[X] + c * mx - s * my, st[Y] + s * mx + c * my, wrap_angle(th + laser[LS_MTH]))
+
+
+@njit(cache=True, inline="always")
+def _move(st: np.ndarray, cvx: float, cvy: float, cwz: float, n_cmd: int, n_steps: int,
+          dt: float, lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
+          blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
+          circles: np.ndarray, segments: np.ndarray, contact: np.ndarray, step0: int,
+          odom_normals: np.ndarray, imu_normals: np.ndarray) -> None:
+    """The motion part of ``physics_steps``."""
     contact[C_FIRST] = -1.0
     contact[C_LAST] = -1.0
     omni = lim[L_OMNI] > 0.5

@@ -19,7 +19,6 @@ from hw.interfaces import BaseEvents, BatteryState
 from hw.sim import physics as ph
 from hw.sim.config import RobotConfig, robot_config
 from hw.sim.faults import Fault, fault_from_mapping
-from hw.sim.sensors import scan_ranges
 from hw.sim.world import World, first_after
 from navcore.clock import Clock
 from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, normalize_angle
@@ -33,6 +32,7 @@ _ODOM_BLOCK = slice(ph.NOX, ph.O_STAMP + 1)
 _O_STAMP = ph.O_STAMP
 _C_FIRST = ph.C_FIRST
 _NEVER = 2 ** 62  # the step of the next scan when there is no laser
+_NO_SCAN = np.zeros(0, np.float32)  # "cast no scan" to the physics kernel
 
 
 @dataclass(frozen=True)
@@ -166,11 +166,14 @@ class Simulator:
         self._scan_msg: LaserScan | None = None
         self._scan_k = 0
         self._next_scan = 0 if lc is not None else _NEVER
+        self._laser = np.zeros(ph.LASER_SIZE)
         if lc is not None:
             self._scan_period = (1.0 / lc.rate) / self._dt
-            self._beams = np.ascontiguousarray(lc.angles)
-            self._no_return = math.inf if lc.no_return_inf else lc.range_max
-            self._laser_mount = (lc.mount.x, lc.mount.y, lc.mount.theta)
+            self._n_beams = len(lc.angles)
+            self._noisy_laser = lc.range_noise_stddev > 0
+            self._laser[:] = (lc.mount.x, lc.mount.y, lc.mount.theta, lc.angle_min,
+                              lc.angle_increment, lc.range_max, lc.range_noise_stddev,
+                              math.inf if lc.no_return_inf else lc.range_max)
             self._laser_seeds: list[int] = []
         # imu
         ic = self.config.imu
@@ -194,7 +197,9 @@ class Simulator:
         self.base = SimBase(self)
         self.laser = SimLaser(self) if lc is not None else None
         self.imu = SimImu(self) if ic is not None else None
-        self._publish_scan_if_due()
+        if lc is not None:
+            self._publish_scan()
+            self._scan_published()
 
     # ----------------------------------------------------------------- time and stepping
     @property
@@ -237,17 +242,26 @@ class Simulator:
             n_cmd = self._cmd_until - s
             if now >= self._battery_check_at and self._battery_flat(now):
                 n_cmd = 0  # a flat battery: the motors stop
+            # a scan due at the end of the chunk is cast in the same call, unless the world
+            # changes with time (then it is cast on its own, with the objects of its own time)
+            scan_due = end >= self._next_scan
+            out, seed = _NO_SCAN, 0
+            if scan_due and not moving and not world.dynamic:
+                out, seed = self._scan_buffer(t0 + end * dt)
             vx, vy, wz = self._cmd
             ph.physics_steps(self._st, vx, vy, wz, n_cmd, end - s, dt, self._lim, self._faultv,
                              moving, self._fp, world.blocked, world.clearance, world.origin_x,
-                             world.origin_y,
-                             world.resolution, circles, segments, contact, s,
-                             self._odom_normals, self._imu_normals)
+                             world.origin_y, world.resolution, circles, segments, contact, s,
+                             self._odom_normals, self._imu_normals, self._laser, seed, out)
             if contact[_C_FIRST] >= 0.0:
                 self._record_contact(now)
             self._step = end
-            if end >= self._next_scan:
-                self._publish_scan_if_due()
+            if scan_due:
+                if out is _NO_SCAN:
+                    self._publish_scan()
+                else:
+                    self._scan_message(out)
+                self._scan_published()
 
     def _record_contact(self, now: float) -> None:
         """Log a new contact (one per push: blocked steps closer than bumper_hold merge)."""
@@ -387,11 +401,6 @@ class Simulator:
         return self.bumper_pressed() or self.overlapping()
 
     # ----------------------------------------------------------------- sensors
-    def _publish_scan_if_due(self) -> None:
-        if self._step >= self._next_scan:
-            self._publish_scan()
-            self._scan_k += 1
-            self._next_scan = _ceil_step(self._scan_k * self._scan_period)
 
     def _odometry(self) -> Odometry:
         """The newest odometry message, built on first read after each publication."""
@@ -432,14 +441,7 @@ class Simulator:
 
     def laser_pose(self) -> Pose2D:
         """True pose of the laser frame in ``map``."""
-        return Pose2D(*self._laser_xyt())
-
-    def _laser_xyt(self) -> tuple[float, float, float]:
-        """``laser_pose`` as a plain tuple (no message object on the per-scan path)."""
-        x, y, th = self._st[:3].tolist()
-        mx, my, mth = self._laser_mount
-        c, s = math.cos(th), math.sin(th)
-        return x + c * mx - s * my, y + s * mx + c * my, normalize_angle(th + mth)
+        return Pose2D(*ph.laser_xyt(self._st, self._laser))
 
     def _next_laser_seed(self) -> int:
         """The next per-scan noise seed, drawn from the laser's stream 256 at a time."""
@@ -447,26 +449,45 @@ class Simulator:
             self._laser_seeds = self._rng_laser.integers(0, 2 ** 32, 256).tolist()[::-1]
         return self._laser_seeds.pop()
 
-    def _publish_scan(self) -> None:
-        lc = self.config.laser
+    def _scan_published(self) -> None:
+        """Count the scan due now as done and schedule the next."""
+        self._scan_k += 1
+        self._next_scan = _ceil_step(self._scan_k * self._scan_period)
+
+    def _scan_buffer(self, t: float) -> tuple[np.ndarray, int]:
+        """Where to cast the scan due at time t, and its noise seed; ``_NO_SCAN`` when a fault
+        keeps the laser from scanning (drop-out, or frozen on an earlier scan)."""
+        if self._faults and (self.fault_active("laser_dropout", t) is not None
+                             or (self.fault_active("laser_frozen", t) is not None
+                                 and self._scan_msg is not None)):
+            return _NO_SCAN, 0
+        seed = self._next_laser_seed() if self._noisy_laser else 0
+        return np.empty(self._n_beams, np.float32), seed
+
+    def _scan_message(self, out: np.ndarray) -> None:
+        """Publish the scan of the current step: ``out`` as cast, or what a fault makes of it."""
         now = self.time
-        if self._faults and self.fault_active("laser_dropout", now):
-            return
-        if (self._faults and self.fault_active("laser_frozen", now)
-                and self._scan_msg is not None):
-            ranges = self._scan_msg.ranges.copy()
-        else:
-            lx, ly, lth = self._laser_xyt()
-            seed = self._next_laser_seed() if lc.range_noise_stddev > 0 else 0
-            ranges = np.empty(len(self._beams), np.float32)
-            w = self.world
-            circles, segments = w.shapes_at(now)
-            scan_ranges(w.clearance, w.origin_x, w.origin_y, w.resolution, lx, ly,
-                        lth + lc.angle_min, lc.angle_increment, lc.range_max, circles,
-                        segments, lc.range_noise_stddev, seed, self._no_return, ranges)
+        if out is _NO_SCAN:
+            if self.fault_active("laser_dropout", now) is not None:
+                return
+            out = self._scan_msg.ranges.copy()  # frozen: the last scan again
+        lc = self.config.laser
         self._scan_msg = LaserScan(now, lc.angle_min, lc.angle_max, lc.angle_increment,
                                    lc.time_increment, lc.scan_time, lc.range_min, lc.range_max,
-                                   ranges)
+                                   out)
+
+    def _publish_scan(self) -> None:
+        """Cast and publish a scan at the current step on its own (no motion): at start-up and
+        where the world changes with time."""
+        out, seed = self._scan_buffer(self.time)
+        if out is not _NO_SCAN:
+            w = self.world
+            circles, segments = w.shapes_at(self.time)
+            ph.physics_steps(self._st, 0.0, 0.0, 0.0, 0, 0, self._dt, self._lim, self._faultv,
+                             False, self._fp, w.blocked, w.clearance, w.origin_x, w.origin_y,
+                             w.resolution, circles, segments, self._contact, self._step,
+                             self._odom_normals, self._imu_normals, self._laser, seed, out)
+        self._scan_message(out)
 
     # ----------------------------------------------------------------- battery
     def _battery_fraction(self) -> float:
