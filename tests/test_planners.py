@@ -707,3 +707,54 @@ def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -
     out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True,
                          timeout=900)
     assert out.returncode == 0 and "agrees" in out.stdout, out.stderr[-3000:]
+
+
+def test_wavefront_leaves_the_gate_idle_and_reused_buffers_give_fresh_results() -> None:
+    """A run ends with every gate idle (cells still queued get their push cost back), exactly
+    as a fresh reset leaves it, also when cut short by ``max_cycles``; the next plan of that size
+    then rewrites only the gates of cells whose cost changed. Plans on a reused workspace (costs
+    changed here and there, on the border too, and a new cost table) must give the updates and
+    potentials of a fresh workspace."""
+    from navcore.planners.wavefront import (Workspace, _reset_tiled, kernel_tables,
+                                            reset_buffers, run_wavefront, tile_map)
+
+    rng = np.random.default_rng(8)
+    for trial in range(16):
+        nx, ny = int(rng.integers(6, 40)), int(rng.integers(6, 40))
+        costs = random_costmap(rng, nx, ny).costs.reshape(-1).copy()
+        tiled = trial % 4 == 3
+        kept = Workspace(tiled=tiled)
+        kept.ensure(nx, ny)
+        for plan in range(5):
+            if plan:  # the map changes a little between plans, border included
+                k = rng.integers(nx * ny, size=int(rng.integers(0, 6)))
+                costs[k] = rng.choice([0, 60, 128, 252, 253, 254, 255], size=len(k))
+                costs[rng.integers(nx)] = rng.choice([0, 254])
+            gp = plan % 3 == 2
+            lut = global_planner_cost_table(253, 50, 3.0, bool(plan % 2)) if gp \
+                else navfn_cost_table(bool(plan % 2))
+            tables = kernel_tables(lut, 253.0 if gp else 254.0, gp)
+            free = np.flatnonzero(lut[costs] < (253 if gp else 254))
+            if len(free) < 2:
+                continue
+            seed, target = (int(v) for v in rng.choice(free, 2, replace=False))
+            cycles = int(rng.choice([3, 10, 2 * nx * ny]))
+            args = (np.array([seed], np.int64), np.array([0.0], np.float32),
+                    np.array([seed + 1, seed - 1, seed - nx, seed + nx], np.int64), target,
+                    float(tables[0][0]), 100.0, cycles, bool(plan % 2), int(trial % 2), 40.0)
+            fresh = Workspace(tiled=tiled)
+            fresh.ensure(nx, ny)
+            want = run_wavefront(fresh, costs, tables, nx, ny, *args)
+            got = run_wavefront(kept, costs, tables, nx, ny, *args)
+            assert got == want, (trial, plan)
+            np.testing.assert_array_equal(kept.pot, fresh.pot)
+            # the gate each run leaves behind is the one a fresh reset builds
+            pot, gate = np.empty_like(kept.pot), np.empty_like(kept.gate)
+            if tiled:
+                tcosts = np.empty_like(kept.tcosts)
+                tile_map(costs, nx, ny, tcosts, 254)
+                _reset_tiled(np.empty_like(kept.tpot), gate, tcosts, tables[0], nx, ny)
+            else:
+                reset_buffers(pot, gate, costs, tables[0], nx, ny)
+            np.testing.assert_array_equal(kept.gate, gate)
+            np.testing.assert_array_equal(fresh.gate, gate)

@@ -331,6 +331,14 @@ _push4_over = intrinsic(_push4_typing(True))
 PREFETCH_AHEAD = 8
 
 
+@njit(cache=True, inline="always")
+def _make_idle(gate: np.ndarray, costs: np.ndarray, lut_push: np.ndarray, queue: np.ndarray,
+               count: int) -> None:
+    for i in range(count):
+        m = queue[i]
+        gate[m] = lut_push[costs[m]]
+
+
 def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
     """``propagate`` compiled for one update kind, search kind and layout: the flags are
     constants of the closure, so each variant carries only its own code (a single generic kernel
@@ -493,6 +501,11 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                 nover = zero
                 from_over = True
             cycle += 1
+        # cells still queued get their idle gate back, so the gate ends as a fresh reset left
+        # it: the next plan of the same size rewrites only the cells whose cost changed
+        _make_idle(gate, costs, lut_push, cur, ncur)
+        _make_idle(gate, costs, lut_push, nxt, nnext)
+        _make_idle(gate, costs, lut_push, over, nover)
         if not reached and pot[target] < POT_HIGH:
             reached = True
         return reached, updates, cycle
@@ -545,6 +558,16 @@ def kernel_tables(lut: np.ndarray, block: float, truncate: bool) -> tuple:
     return push, hf, inv
 
 
+@njit(cache=True, inline="always")
+def _close_border(gate: np.ndarray, nx: int, ny: int) -> None:
+    for x in range(nx):
+        gate[x] = np.inf
+        gate[(ny - 1) * nx + x] = np.inf
+    for y in range(ny):
+        gate[y * nx] = np.inf
+        gate[y * nx + nx - 1] = np.inf
+
+
 @njit(cache=True)
 def reset_buffers(pot: np.ndarray, gate: np.ndarray, costs: np.ndarray, lut_push: np.ndarray,
                   nx: int, ny: int) -> None:
@@ -552,12 +575,39 @@ def reset_buffers(pot: np.ndarray, gate: np.ndarray, costs: np.ndarray, lut_push
     pot[:] = POT_HIGH
     for i in range(gate.shape[0]):
         gate[i] = lut_push[costs[i]]
-    for x in range(nx):
-        gate[x] = np.inf
-        gate[(ny - 1) * nx + x] = np.inf
-    for y in range(ny):
-        gate[y * nx] = np.inf
-        gate[y * nx + nx - 1] = np.inf
+    _close_border(gate, nx, ny)
+
+
+@njit(cache=True)
+def refresh_buffers(pot: np.ndarray, gate: np.ndarray, gate_costs: np.ndarray,
+                    costs: np.ndarray, lut_push: np.ndarray, nx: int, ny: int) -> None:
+    """``reset_buffers`` for a gate left idle by the last run on ``gate_costs`` (with the same
+    ``lut_push``): only cells whose cost changed since get a new gate (and ``gate_costs`` their
+    cost). On an unchanged map this is a compare of 64-cell blocks instead of the gather
+    ``lut_push[costs]`` of a full reset."""
+    pot[:] = POT_HIGH
+    ns = costs.shape[0]
+    # compared as 8-byte words, 8 words (64 cells) a block: uint8 arithmetic would widen
+    end = ns - ns % 64
+    words = costs[:end].view(np.uint64)
+    last_words = gate_costs[:end].view(np.uint64)
+    changed = False
+    for b in range(0, end // 8, 8):
+        diff = np.uint64(0)
+        for w in range(b, b + 8):
+            diff |= words[w] ^ last_words[w]
+        if diff != 0:
+            changed = True
+            for i in range(8 * b, 8 * b + 64):
+                gate_costs[i] = costs[i]
+                gate[i] = lut_push[costs[i]]
+    for i in range(end, ns):
+        if costs[i] != gate_costs[i]:
+            changed = True
+            gate_costs[i] = costs[i]
+            gate[i] = lut_push[costs[i]]
+    if changed:  # a border cell may have been rewritten
+        _close_border(gate, nx, ny)
 
 
 class Workspace:
@@ -581,6 +631,9 @@ class Workspace:
         self.shape = (nx, ny)
         self.tiled = ns >= TILED_MIN_CELLS if self.want_tiled is None else self.want_tiled
         self.pot_tiled = False
+        # row-major: the costs and push table the idle gate was built from (None: rebuild it)
+        self.gate_lut: np.ndarray | None = None
+        self.gate_costs = np.empty(ns if not self.tiled else 0, np.uint8)
         self.pot = np.empty(ns, np.float32)
         # Whole-map queues: current and next hold a cell at most once, so they cannot overflow;
         # the overflow queue grows itself in the rare case its repeats outgrow the map.
@@ -624,10 +677,18 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
     costmap, ``tables`` the ``kernel_tables``."""
     ws.pot_tiled = False
     if not ws.tiled:
-        reset_buffers(ws.pot, ws.gate, costs, tables[0], nx, ny)
-        return propagate(costs, tables, nx, ny, ws.pot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
-                         seed_cells, seed_pots, push_cells, target, threshold, increment,
-                         max_cycles, quadratic, hkind, hscale, False)
+        lut_push = tables[0]
+        if ws.gate_lut is not None and np.array_equal(ws.gate_lut, lut_push):
+            refresh_buffers(ws.pot, ws.gate, ws.gate_costs, costs, lut_push, nx, ny)
+        else:
+            reset_buffers(ws.pot, ws.gate, costs, lut_push, nx, ny)
+            ws.gate_costs[:] = costs
+        ws.gate_lut = None  # until the kernel has returned with every gate idle again
+        out = propagate(costs, tables, nx, ny, ws.pot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
+                        seed_cells, seed_pots, push_cells, target, threshold, increment,
+                        max_cycles, quadratic, hkind, hscale, False)
+        ws.gate_lut = lut_push.copy()
+        return out
     tile_map(costs, nx, ny, ws.tcosts, 254)  # padding: impassable, its gate +inf anyway
     _reset_tiled(ws.tpot, ws.gate, ws.tcosts, tables[0], nx, ny)
     out = propagate(ws.tcosts, tables, nx, ny, ws.tpot, ws.gate, ws.buf_a, ws.buf_b, ws.buf_c,
