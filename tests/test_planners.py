@@ -758,3 +758,36 @@ def test_wavefront_leaves_the_gate_idle_and_reused_buffers_give_fresh_results() 
                 reset_buffers(pot, gate, costs, tables[0], nx, ny)
             np.testing.assert_array_equal(kept.gate, gate)
             np.testing.assert_array_equal(fresh.gate, gate)
+
+
+def test_zero_tolerance_search_is_the_goal_cell_test() -> None:
+    """With no tolerance the search has one sample, the goal itself: it must answer as the
+    sampled square does for it (goal kept when its cell is on the map and reached), row-major
+    and tiled, also for goals on cell edges and just off the map."""
+    from navcore.planners.common import search_tolerance
+    from navcore.planners.wavefront import POT_HIGH, layout_index
+
+    rng = np.random.default_rng(4)
+    for trial in range(40):
+        nx, ny = int(rng.integers(3, 30)), int(rng.integers(3, 30))
+        cm = Costmap2D(nx, ny, 0.05, float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)))
+        pot = np.where(rng.random(nx * ny) < 0.3, POT_HIGH, rng.random(nx * ny) * 1e3)
+        pot = pot.astype(np.float32)
+        for tiled in (False, True):
+            tpot = np.full(8 * ((nx + 7) // 8) * 8 * ((ny + 7) // 8), POT_HIGH, np.float32)
+            tpot[layout_index(np.arange(nx * ny), nx, True)] = pot
+            grid = tpot if tiled else pot
+            for _ in range(10):
+                cx, cy = rng.integers(-2, nx + 2), rng.integers(-2, ny + 2)
+                frac = rng.choice([0.0, 0.5, 0.999999, -0.0])
+                goal = Pose2D(cm.origin_x + (cx + frac) * 0.05, cm.origin_y + (cy + frac) * 0.05)
+                # the square's sampling (as for a tolerance) with its one sample
+                sx = goal.x + (-0.0 + 0.05 * np.arange(1))
+                sy = goal.y + (-0.0 + 0.05 * np.arange(1))
+                mx = np.floor((sx - cm.origin_x) / 0.05).astype(np.int64)
+                my = np.floor((sy - cm.origin_y) / 0.05).astype(np.int64)
+                inside = (sx >= cm.origin_x) & (sy >= cm.origin_y) & (mx < nx) & (my < ny)
+                want = (float(sx[0]), float(sy[0])) \
+                    if inside[0] and pot[my[0] * nx + mx[0]] < POT_HIGH else None
+                got = search_tolerance(cm, grid, goal, 0.0, tiled)
+                assert got == want, (trial, goal, got, want)
