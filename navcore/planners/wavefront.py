@@ -352,6 +352,13 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                   target: int, threshold: float, increment: float, max_cycles: int, hkind: int,
                   hscale: float) -> tuple:
         ns = nx * ny
+        # the three per-cost tables as one record per cost: one base register, one line
+        cost_rec = np.empty(4 * lut_push.shape[0], np.float32)
+        for c in range(lut_push.shape[0]):
+            cost_rec[4 * c] = lut_push[c]
+            cost_rec[4 * c + 1] = lut_hf[c]
+            cost_rec[4 * c + 2] = lut_inv[c]
+            cost_rec[4 * c + 3] = 0.0
         ntx = (nx + TILE - 1) // TILE
         tx = target % nx
         ty = target // nx
@@ -444,14 +451,14 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                     orr = one
                     od = unx
                     ou = unx
-                cn = costs[n]
+                cn = np.uintp(costs[n]) << np.uintp(2)
                 if not from_over:
                     # a queue filled as ``next`` holds each cell once, so it turns idle as it
                     # comes up: a cell lowered earlier in this cycle that is still to come is
                     # then not queued a second time
-                    gate[n] = lut_push[cn]
+                    gate[n] = cost_rec[cn]
                 updates += 1
-                hf = lut_hf[cn]  # queued cells are passable: every push checks it
+                hf = cost_rec[cn + one]  # queued cells are passable: every push checks it
                 l = pot[n - ol]
                 r = pot[n + orr]
                 u = pot[n - od]
@@ -462,7 +469,7 @@ def _make_propagate(quadratic: bool, astar: bool, tiled: bool):
                 if quadratic:
                     # navfn's planar-wave update (both sides computed, then selected)
                     dc = abs(tc - ta0)
-                    q = dc * lut_inv[cn]
+                    q = dc * cost_rec[cn + np.uintp(2)]
                     pq = ta + hf * (_QA * q * q + _QB * q + _QC)
                     p = ta + hf if dc >= hf else pq
                 else:
