@@ -178,10 +178,25 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
                 break
         else:
             if stc != gcell:
-                gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
-                gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
-                gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
-                gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                # a step to a side neighbour keeps the two corners they share (a corner's
+                # gradient depends on the potential only, which a descent does not change)
+                step = stc - gcell if gcell >= 0 and nx > 2 else 0
+                if step == 1:
+                    gx00, gy00, gx01, gy01 = gx10, gy10, gx11, gy11
+                elif step == -1:
+                    gx10, gy10, gx11, gy11 = gx00, gy00, gx01, gy01
+                elif step == nx:
+                    gx00, gy00, gx10, gy10 = gx01, gy01, gx11, gy11
+                elif step == -nx:
+                    gx01, gy01, gx11, gy11 = gx00, gy00, gx10, gy10
+                if step != 1 and step != nx:
+                    gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                if step != -1 and step != nx:
+                    gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                if step != 1 and step != -nx:
+                    gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                if step != -1 and step != -nx:
+                    gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
                 gcell = stc
             x1 = (1.0 - dx) * gx00 + dx * gx10
             x2 = (1.0 - dx) * gx01 + dx * gx11
