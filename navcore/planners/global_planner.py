@@ -24,6 +24,8 @@ ends with one goal pose (the C++ repeats the goal's position), and
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from navcore.costmap.costmap2d import Costmap2D
@@ -103,6 +105,14 @@ def _endpoint_potential(pot: np.ndarray, n: int, nx: int, cost: float, quadratic
     return ta + cost * (-0.2301 * q * q + 0.5307 * q + 0.7040)
 
 
+@functools.lru_cache(maxsize=8)
+def _gp_tables(lethal: int, neutral: int, cost_factor: float, allow_unknown: bool) -> tuple:
+    """``global_planner_cost_table`` and its ``kernel_tables``, built once per setting (they took
+    ~0.07 ms of every plan); shared, never written."""
+    lut = global_planner_cost_table(lethal, neutral, cost_factor, allow_unknown)
+    return lut, kernel_tables(lut, lethal, True)
+
+
 class GlobalPlanner:
     """ROS global_planner; ``make_plan(start, goal)`` never raises."""
 
@@ -149,7 +159,7 @@ class GlobalPlanner:
         ws = self._ws
         ws.ensure(nx, ny)
         lethal, neutral = p.lethal_cost, p.neutral_cost
-        lut = global_planner_cost_table(lethal, neutral, p.cost_factor, p.allow_unknown)
+        lut, tables = _gp_tables(lethal, neutral, p.cost_factor, bool(p.allow_unknown))
         if cm.costs.dtype != np.uint8:
             raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
@@ -181,7 +191,7 @@ class GlobalPlanner:
             # exact: every step costs at least neutral_cost, so this is consistent
             hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
         reached, self.last_updates, _ = run_wavefront(
-            ws, costs, kernel_tables(lut, lethal, True), nx, ny, seeds_a, pots_a,
+            ws, costs, tables, nx, ny, seeds_a, pots_a,
             np.array(pushes, np.int64), target, float(lethal), float(band), 2 * nx * ny,
             p.use_quadratic, hkind, hscale)
         publish = p.publish_potential or p.visualize_potential
