@@ -198,6 +198,12 @@ COARSE = 4  # the first footprint pass checks every 4th point
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _fold(cost: float, c: float, sum_scores: bool) -> float:
+    """The obstacle critic's running cost with one more point's: summed or the max."""
+    return cost + c if sum_scores else max(cost, c)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: float,
                     origin_y: float, resolution: float, footprint: np.ndarray, sum_scores: bool,
                     base: float, scale: float, budget: float, phase: int, cost: float,
@@ -228,10 +234,7 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
                     and bound[my, mx] < LETHAL_OBSTACLE):
                 c = costs[my, mx]
                 if bound[my, mx] <= (c if sum_scores else max(c, cost)):
-                    if sum_scores:
-                        cost += c
-                    elif c > cost:
-                        cost = c
+                    cost = _fold(cost, c, sum_scores)
                     if base + scale * cost > budget:
                         return cost
                     continue
@@ -247,13 +250,7 @@ def obstacle_critic(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x
         my = int((py - origin_y) / resolution)
         if mx >= size_x or my >= size_y:
             return -7.0
-        c = costs[my, mx]
-        if c > f:
-            f = c
-        if sum_scores:
-            cost += f
-        elif f > cost:
-            cost = f
+        cost = _fold(cost, max(f, costs[my, mx]), sum_scores)
         if base + scale * cost > budget:
             return cost
     return cost
