@@ -7,7 +7,7 @@ it; the wanderer's own time is not counted. Also reported: the same with the IMU
 the cost of one 720-beam scan. Factors are simulated seconds per second of this process's CPU
 time (equal to wall time on an idle machine); the wall figure is printed too, lower whenever
 other jobs share the cores. Each figure pools ``--runs`` wanderers (seeds 0, 1, ...): the laser
-noise steers a wanderer, and one path alone can sit ~7 % above or below the others.
+noise steers a wanderer, and one path alone can be up to 25 % faster or slower than another.
 
     python bench/bench_sim.py [--seconds 60] [--runs 8] [--json]
 """
