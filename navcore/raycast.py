@@ -168,7 +168,7 @@ def clearance_field(occ: np.ndarray) -> np.ndarray:
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, t_end: float,
                  t: float, t1: float, disks: np.ndarray, nd: int) -> tuple[float, int]:
     """Sphere tracing with the exact cell walk near obstacles, from parameter ``t`` (the ray is
@@ -196,20 +196,24 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
         t_max_y = (cy + face_y - gy) * inv_y if dy != 0.0 else _INF
         while True:
             c = clear[np.uintp(cy), np.uintp(cx)]  # unsigned: no negative-index wraparound
-            if c == 0 or c >= 4:
-                break  # hit, or far from everything: leap
-            # branch-free step: which face comes first is a coin toss on diagonal beams, so it
-            # is selected rather than branched on; the exits are one rarely taken test
-            sel = t_max_x < t_max_y
-            t = t_max_x if sel else t_max_y
-            t_max_x = t_max_x + t_delta_x if sel else t_max_x
-            t_max_y = t_max_y if sel else t_max_y + t_delta_y
-            cx += step_x * sel
-            cy += step_y * (not sel)
-            if (np.uintp(cx) >= uw) | (np.uintp(cy) >= uh) | (t >= t_end):
+            if c == 0:
+                return t, nd
+            if c >= 4:
+                break  # far from everything: leap
+            if t_max_x < t_max_y:
+                t = t_max_x
+                t_max_x += t_delta_x
+                cx += step_x
+                if np.uintp(cx) >= uw:
+                    return t_end, nd
+            else:
+                t = t_max_y
+                t_max_y += t_delta_y
+                cy += step_y
+                if np.uintp(cy) >= uh:
+                    return t_end, nd
+            if t >= t_end:
                 return t_end, nd
-        if c == 0:
-            return t, nd
         if disks is not None:  # pruned at compile time when None
             if nd < disks.shape[0]:
                 # every point within c - 0.7072 of this cell's centre is clear (see
