@@ -9,7 +9,10 @@ or a thin object. A sub-step that would overlap something is not taken: the robo
 samples fall due inside a chunk, so they are published here too, into the state vector; the
 Python side builds a message only when someone reads it.
 
-The state lives in one float64 array (indices below) so that the Python side stays thin.
+The state lives in one float64 array (indices below) so that the Python side stays thin; it
+travels to the kernel with the robot's constants, the fault and contact vectors and the laser's
+constants in one "kernel vector" (``KV_*`` offsets): each array argument of a numba call costs
+~0.2 us to pass, and the simulator makes one call per chunk.
 """
 
 from __future__ import annotations
@@ -42,8 +45,10 @@ STATE_SIZE = 41
 
 # limits vector indices (constants of the robot)
 (L_ACC_X, L_ACC_Y, L_ACC_TH, L_MAX_X, L_MAX_Y, L_MAX_TH, L_OMNI, L_SEP, L_STEP, L_RMAX,
- L_ODOM_P, L_A1, L_A2, L_A3, L_A4, L_A5, L_IMU_P, L_GBIAS, L_GSIG, L_ASIG) = range(20)
-LIMITS_SIZE = 20  # L_ODOM_P / L_IMU_P: publication periods in physics steps (may be fractional)
+ L_ODOM_P, L_A1, L_A2, L_A3, L_A4, L_A5, L_IMU_P, L_GBIAS, L_GSIG, L_ASIG,
+ L_DT, L_OX, L_OY, L_RES) = range(24)
+LIMITS_SIZE = 24  # L_ODOM_P / L_IMU_P: publication periods in physics steps (may be fractional);
+# L_DT the physics period, L_OX, L_OY, L_RES the map's origin and resolution
 
 # fault vector indices: F_SLIP fraction of wheel motion lost; F_NOROT 1 = body cannot yaw;
 # F_STUCK 0 none, 1 left wheel stuck, 2 right wheel stuck
@@ -58,6 +63,14 @@ CONTACT_SIZE = 6
 # increment (laser frame), range limit, range noise and the value of a beam that hits nothing
 LS_MX, LS_MY, LS_MTH, LS_A0, LS_INC, LS_RMAX, LS_SIGMA, LS_NONE = range(8)
 LASER_SIZE = 8
+
+# the kernel vector: where each of the vectors above starts in it
+KV_ST = 0
+KV_LIM = KV_ST + STATE_SIZE
+KV_F = KV_LIM + LIMITS_SIZE
+KV_C = KV_F + FAULTS_SIZE
+KV_LS = KV_C + CONTACT_SIZE
+KV_SIZE = KV_LS + LASER_SIZE
 
 
 @njit(cache=True)
@@ -192,22 +205,28 @@ def _approach(v: float, target: float, step: float) -> float:
 
 
 @njit(cache=True)
-def physics_steps(st: np.ndarray, cvx: float, cvy: float, cwz: float, n_cmd: int, n_steps: int,
-                  dt: float,
-                  lim: np.ndarray, faults: np.ndarray, check_idle: bool, fp: np.ndarray,
-                  blocked: np.ndarray, clear: np.ndarray, ox: float, oy: float, res: float,
-                  circles: np.ndarray,
-                  segments: np.ndarray, contact: np.ndarray, step0: int, odom_normals: np.ndarray,
-                  imu_normals: np.ndarray, laser: np.ndarray, seed: int, out: np.ndarray) -> None:
-    """Advance ``st`` by ``n_steps`` steps of ``dt`` from global step ``step0``; the command
-    (cvx, cvy, cwz) holds for the first ``n_cmd`` of them (then the command has timed out: target
-    zero). Odometry and IMU publish into ``st`` when due, drawing their noise from the normals
-    buffers at the cursors ``st[O_CUR]`` / ``st[I_CUR]``. ``contact`` receives the first and last
-    step with a blocked motion (-1: none), the pose and speed of the first. Unless ``out`` is
-    empty, the laser (``laser``, LS_* indices) then scans from the final pose into it with noise
-    stream ``seed`` (``scan_ranges``): a chunk that ends where a scan falls due is one call."""
-    _move(st, cvx, cvy, cwz, n_cmd, n_steps, dt, lim, faults, check_idle, fp, blocked, clear, ox,
-          oy, res, circles, segments, contact, step0, odom_normals, imu_normals)
+def physics_steps(kv: np.ndarray, cvx: float, cvy: float, cwz: float, n_cmd: int, n_steps: int,
+                  step0: int, check_idle: bool, fp: np.ndarray, blocked: np.ndarray,
+                  clear: np.ndarray, circles: np.ndarray, segments: np.ndarray,
+                  odom_normals: np.ndarray, imu_normals: np.ndarray, seed: int,
+                  out: np.ndarray) -> None:
+    """Advance the state (``kv``, see ``KV_*``) by ``n_steps`` physics steps from global step
+    ``step0``; the command (cvx, cvy, cwz) holds for the first ``n_cmd`` of them (then the
+    command has timed out: target zero). Odometry and IMU publish into the state when due,
+    drawing their noise from the normals buffers at the cursors ``O_CUR`` / ``I_CUR``. The
+    contact vector receives the first and last step with a blocked motion (-1: none), the pose
+    and speed of the first. Unless ``out`` is empty, the laser (LS_* constants) then scans from
+    the final pose into it with noise stream ``seed`` (``scan_ranges``): a chunk that ends where
+    a scan falls due is one call."""
+    st = kv[KV_ST:KV_LIM]
+    lim = kv[KV_LIM:KV_F]
+    laser = kv[KV_LS:KV_SIZE]
+    ox = lim[L_OX]
+    oy = lim[L_OY]
+    res = lim[L_RES]
+    _move(st, cvx, cvy, cwz, n_cmd, n_steps, lim[L_DT], lim, kv[KV_F:KV_C], check_idle, fp,
+          blocked, clear, ox, oy, res, circles, segments, kv[KV_C:KV_LS], step0, odom_normals,
+          imu_normals)
     if out.shape[0] > 0:
         lx, ly, lth = laser_xyt(st, laser)
         scan_ranges(clear, ox, oy, res, lx, ly, lth + laser[LS_A0], laser[LS_INC],

@@ -116,12 +116,14 @@ class Simulator:
         self._dt = float(b.physics_period)
         self._t0 = float(clock.now())
         self._step = 0
-        self._st = np.zeros(ph.STATE_SIZE)
+        # state, constants, faults, contact and laser: views of one kernel vector
+        self._kv = kv = np.zeros(ph.KV_SIZE)
+        self._st = kv[ph.KV_ST:ph.KV_LIM]
         self._st[ph.X], self._st[ph.Y], self._st[ph.TH] = start.x, start.y, start.theta
         fp = self.config.footprint
         self._fp = np.ascontiguousarray(fp, dtype=np.float64)
         rmax = float(np.max(np.hypot(fp[:, 0], fp[:, 1])))
-        lim = np.zeros(ph.LIMITS_SIZE)
+        lim = kv[ph.KV_LIM:ph.KV_F]
         lim[ph.L_ACC_X], lim[ph.L_ACC_Y], lim[ph.L_ACC_TH] = b.acc_lim_x, b.acc_lim_y, \
             b.acc_lim_theta
         lim[ph.L_MAX_X], lim[ph.L_MAX_Y], lim[ph.L_MAX_TH] = b.max_vel_x, b.max_vel_y, \
@@ -131,6 +133,9 @@ class Simulator:
         # no point of the body moves more than this between two collision checks
         lim[ph.L_STEP] = min(0.5 * world.resolution, 0.025)
         lim[ph.L_RMAX] = rmax
+        lim[ph.L_DT] = self._dt
+        lim[ph.L_OX], lim[ph.L_OY], lim[ph.L_RES] = world.origin_x, world.origin_y, \
+            world.resolution
         self._lim = lim
         # plain copies of values read every chunk (Parameters lookups are slow in a hot loop)
         self._bumper_hold = float(b.bumper_hold)
@@ -144,8 +149,8 @@ class Simulator:
         self._cmd = (0.0, 0.0, 0.0)  # (vx, vy, wz), finite floats
         self._cmd_until = 0  # first step at which the current command has timed out
         self._timeout_steps = max(1, _ceil_step(b.cmd_vel_timeout / self._dt))
-        self._contact = np.zeros(ph.CONTACT_SIZE)
-        self._faultv = np.zeros(ph.FAULTS_SIZE)
+        self._contact = kv[ph.KV_C:ph.KV_LS]
+        self._faultv = kv[ph.KV_F:ph.KV_C]
         self._faultv[ph.F_SLIP] = float(b.wheel_slip)
         self._faults: list[Fault] = []
         self.contacts: list[Contact] = []
@@ -166,7 +171,7 @@ class Simulator:
         self._scan_msg: LaserScan | None = None
         self._scan_k = 0
         self._next_scan = 0 if lc is not None else _NEVER
-        self._laser = np.zeros(ph.LASER_SIZE)
+        self._laser = kv[ph.KV_LS:ph.KV_SIZE]
         if lc is not None:
             self._scan_period = (1.0 / lc.rate) / self._dt
             self._n_beams = len(lc.angles)
@@ -249,10 +254,9 @@ class Simulator:
             if scan_due and not moving and not world.dynamic:
                 out, seed = self._scan_buffer(t0 + end * dt)
             vx, vy, wz = self._cmd
-            ph.physics_steps(self._st, vx, vy, wz, n_cmd, end - s, dt, self._lim, self._faultv,
-                             moving, self._fp, world.blocked, world.clearance, world.origin_x,
-                             world.origin_y, world.resolution, circles, segments, contact, s,
-                             self._odom_normals, self._imu_normals, self._laser, seed, out)
+            ph.physics_steps(self._kv, vx, vy, wz, n_cmd, end - s, s, moving, self._fp,
+                             world.blocked, world.clearance, circles, segments,
+                             self._odom_normals, self._imu_normals, seed, out)
             if contact[_C_FIRST] >= 0.0:
                 self._record_contact(now)
             self._step = end
@@ -483,10 +487,9 @@ class Simulator:
         if out is not _NO_SCAN:
             w = self.world
             circles, segments = w.shapes_at(self.time)
-            ph.physics_steps(self._st, 0.0, 0.0, 0.0, 0, 0, self._dt, self._lim, self._faultv,
-                             False, self._fp, w.blocked, w.clearance, w.origin_x, w.origin_y,
-                             w.resolution, circles, segments, self._contact, self._step,
-                             self._odom_normals, self._imu_normals, self._laser, seed, out)
+            ph.physics_steps(self._kv, 0.0, 0.0, 0.0, 0, 0, self._step, False, self._fp,
+                             w.blocked, w.clearance, circles, segments, self._odom_normals,
+                             self._imu_normals, seed, out)
         self._scan_message(out)
 
     # ----------------------------------------------------------------- battery
