@@ -300,10 +300,8 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
             # the stretch of this ray inside disk j; slide to its end if it covers t, stop at
             # the first disk that does not (the rest lie farther along the previous beam)
             b = disks[j, 0] * dx + disks[j, 1] * dy
-            disc = b * b - disks[j, 2]
-            if disc <= 0.0:
-                break
-            s = math.sqrt(disc)
+            # a ray that misses the disk has disc < 0: s is NaN and the test below fails too
+            s = math.sqrt(b * b - disks[j, 2])
             if not -b - s <= t < -b + s:
                 break
             t = -b + s
