@@ -6,8 +6,7 @@ ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, c
 10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map
 between the two free cells farthest apart along the diagonal. Each figure is the median of several
 full ``make_plan`` calls after a warm-up (numba compiled and cached), in process CPU time.
-Maps of 6M cells and more (4000^2) run the wavefront on a tiled copy (see
-navcore/planners/wavefront.py). ``--json`` prints one JSON object as the last line.
+``--json`` prints one JSON object as the last line.
 ``global_planner_astar_grid`` is ``use_dijkstra: false`` with ``use_grid_path: true``; its C++
 figure is ROS's greedy single-assignment A*, which is not least-cost (ours is navfn's A*
 wavefront, see navcore/planners/global_planner.py).

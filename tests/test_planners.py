@@ -341,7 +341,8 @@ def reference_gradient_path(pot: np.ndarray, nx: int, ny: int, fx: float, fy: fl
 def test_gradient_path_matches_the_plain_reference() -> None:
     """The compiled descent (corner gradients kept while it stays in a cell, one max for the
     unreached-neighbour test) gives exactly the plain transcription's points, both stop modes,
-    on the potentials of random maps."""
+    on the potentials of random maps, read through the wavefront's strided view of its records
+    as from a contiguous copy."""
     from navcore.planners.traceback import gradient_path
 
     rng = np.random.default_rng(8)
@@ -355,13 +356,17 @@ def test_gradient_path_matches_the_plain_reference() -> None:
             (sy, sx), (gy, gx) = free[rng.integers(len(free), size=2)]
             planner.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
             pot = planner._ws.pot
+            assert pot.strides == (8,)  # the potential half of the 8-byte records
             for stop, tx, ty in ((0, float(sx), float(sy)), (1, sx + 0.3, sy - 0.2)):
-                args = (pot, nx, ny, gx + 0.25, gy + 0.1, stop, float(tx), float(ty), 4 * nx * ny,
+                args = (nx, ny, gx + 0.25, gy + 0.1, stop, float(tx), float(ty), 4 * nx * ny,
                         254.0)
-                ok, xy = gradient_path(*args)
-                ref_ok, ref = reference_gradient_path(*args)
+                ok, xy = gradient_path(pot, *args)
+                ref_ok, ref = reference_gradient_path(np.ascontiguousarray(pot), *args)
                 assert ok == ref_ok
                 np.testing.assert_array_equal(xy, np.array(ref, float).reshape(-1, 2))
+                flat_ok, flat = gradient_path(np.ascontiguousarray(pot), *args)
+                assert flat_ok == ok
+                np.testing.assert_array_equal(flat, xy)
                 compared += ok
     assert compared >= 20
 
@@ -499,69 +504,18 @@ def test_degenerate_plans(kind: str, params: dict) -> None:
     assert p.make_plan(Pose2D(1.0, 1.0), Pose2D(4.99, 3.99)).reason == "goal_occupied"
 
 
-# ---------------------------------------------------------------- tiled layout (big maps)
-
-@pytest.mark.parametrize("kind,params", [
-    ("navfn/NavfnROS", {}),
-    ("global_planner/GlobalPlanner", {}),
-    ("global_planner/GlobalPlanner", {"use_dijkstra": False, "use_grid_path": True}),
-    ("global_planner/GlobalPlanner", {"use_dijkstra": False, "use_quadratic": False}),
-])
-def test_tiled_wavefront_gives_the_same_potential_and_path(kind: str, params: dict) -> None:
-    """Big maps run the wavefront on a tiled copy of the map; it must visit cells in the same
-    order, so potentials and paths are bit-identical to the row-major run (odd sizes: padding)."""
-    from navcore.planners.wavefront import Workspace
-
-    rng = np.random.default_rng(11)
-    found = 0
-    for nx, ny in ((61, 45), (40, 33), (97, 70)):
-        cm = _office_like(rng, max(nx, ny))
-        cm.resize(nx, ny, 0.05, 0.0, 0.0)
-        cm.costs[:] = _office_like(rng, max(nx, ny)).costs[:ny, :nx]
-        params = dict(params, visualize_potential=True, publish_potential=True) \
-            if kind.startswith("global") else dict(params, visualize_potential=True)
-        flat, tiled = make_planner(kind, cm, params), make_planner(kind, cm, params)
-        flat._ws, tiled._ws = Workspace(tiled=False), Workspace(tiled=True)
-        # navfn without a published potential reads its path off the tiled copy directly
-        kept = make_planner(kind, cm, dict(params, visualize_potential=False))
-        kept._ws = Workspace(tiled=True)
-        free = np.argwhere(cm.costs[1:-1, 1:-1] == 0) + 1
-        for _ in range(4):
-            (sy, sx), (gy, gx) = free[rng.integers(len(free), size=2)]
-            a = flat.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
-            b = tiled.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
-            assert tiled._ws.tiled and not flat._ws.tiled
-            assert (a.ok, a.reason, flat.last_updates) == (b.ok, b.reason, tiled.last_updates)
-            np.testing.assert_array_equal(a.potential, b.potential)
-            if a.ok:
-                np.testing.assert_array_equal(a.path.poses, b.path.poses)
-                found += 1
-            if kind.startswith("navfn"):
-                c = kept.make_plan(centre(cm, sx, sy), centre(cm, gx, gy))
-                assert kept._ws.pot_tiled and c.potential is None
-                assert (a.ok, a.reason) == (c.ok, c.reason)
-                if a.ok:
-                    np.testing.assert_array_equal(a.path.poses, c.path.poses)
-                for y, x in free[rng.integers(len(free), size=20)]:
-                    w = cm.map_to_world(int(x), int(y))
-                    assert flat.potential_at(*w) == kept.potential_at(*w)
-    assert found >= 8
-
-
 def test_cell_coordinates_from_the_reciprocal_match_integer_division() -> None:
     """A* recovers (x, y) from a cell index with a multiply by 1/width, not a division: it must
-    give exactly divmod's answer, row-major and tiled, up to the largest index of wide maps."""
-    from navcore.planners.wavefront import TILE, _cell_xy, tile_index
+    give exactly divmod's answer up to the largest index of wide maps."""
+    from navcore.planners.wavefront import _cell_xy
 
     rng = np.random.default_rng(5)
     for nx in (3, 7, 8, 999, 1000, 1165, 4000, 65_537, 1 << 20):
         ny = nx
-        ntx = (nx + TILE - 1) // TILE
         xs = np.concatenate([rng.integers(0, nx, 400), [0, nx - 1]])
         ys = np.concatenate([rng.integers(0, ny, 400), [ny - 1, 0]])
         for x, y in zip(xs.tolist(), ys.tolist()):
-            assert _cell_xy(y * nx + x, nx, ntx, False, 1.0 / nx) == (x, y)
-            assert _cell_xy(tile_index(x, y, ntx), nx, ntx, True, 1.0 / ntx) == (x, y)
+            assert _cell_xy(y * nx + x, nx, 1.0 / nx) == (x, y)
 
 
 # ---------------------------------------------------------------- the kernel against a reference
@@ -661,24 +615,23 @@ def kernel_agrees_with_reference(quadratic: bool, hkind: int, trials: int = 12) 
         hscale = 0.0 if hkind == 0 else float(lut.min()) * (0.99 if hkind == 2 else 1.0)
         ref = reference_wavefront(lut, block, truncate, costs, seed, target, block, band,
                                   quadratic, hkind, hscale)
-        for tiled in (False, True):
-            ws = Workspace(tiled=tiled)
-            ws.ensure(nx, ny)
-            reached, updates, _ = run_wavefront(
-                ws, costs.reshape(-1), kernel_tables(lut, block, truncate), nx, ny,
-                np.array([seed], np.int64), np.array([0.0], np.float32),
-                np.array([seed + 1, seed - 1, seed - nx, seed + nx], np.int64), target, block,
-                band, 2 * nx * ny, quadratic, hkind, hscale)
-            assert (reached, updates) == ref[:2], (trial, tiled)
-            np.testing.assert_array_equal(ws.pot, ref[2])
+        ws = Workspace()
+        ws.ensure(nx, ny)
+        reached, updates, _ = run_wavefront(
+            ws, costs.reshape(-1), kernel_tables(lut, block, truncate), nx, ny,
+            np.array([seed], np.int64), np.array([0.0], np.float32),
+            np.array([seed + 1, seed - 1, seed - nx, seed + nx], np.int64), target, block,
+            band, 2 * nx * ny, quadratic, hkind, hscale)
+        assert (reached, updates) == ref[:2], trial
+        np.testing.assert_array_equal(ws.pot, ref[2])
 
 
 @pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
 def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
-    """The compiled kernel (queue flags and push costs folded into one float32 gate, the four
-    pushes of an update as one vector step, one variant per update/search/layout) visits cells
-    exactly as the plain propagation above: same updates, bit-identical potentials, row-major
-    and tiled, on random costmaps and band widths."""
+    """The compiled kernel (queue flags and push costs folded into one float32 gate, kept with
+    the potential in one 8-byte record per cell, the four pushes of an update as one vector
+    step, one variant per update/search kind) visits cells exactly as the plain propagation
+    above: same updates, bit-identical potentials, on random costmaps and band widths."""
     kernel_agrees_with_reference(quadratic, hkind)
 
 
@@ -715,15 +668,14 @@ def test_wavefront_leaves_the_gate_idle_and_reused_buffers_give_fresh_results() 
     then rewrites only the gates of cells whose cost changed. Plans on a reused workspace (costs
     changed here and there, on the border too, and a new cost table) must give the updates and
     potentials of a fresh workspace."""
-    from navcore.planners.wavefront import (Workspace, _reset_tiled, kernel_tables,
-                                            reset_buffers, run_wavefront, tile_map)
+    from navcore.planners.wavefront import (POT_HIGH, Workspace, kernel_tables, reset_records,
+                                            run_wavefront)
 
     rng = np.random.default_rng(8)
     for trial in range(16):
         nx, ny = int(rng.integers(6, 40)), int(rng.integers(6, 40))
         costs = random_costmap(rng, nx, ny).costs.reshape(-1).copy()
-        tiled = trial % 4 == 3
-        kept = Workspace(tiled=tiled)
+        kept = Workspace()
         kept.ensure(nx, ny)
         for plan in range(5):
             if plan:  # the map changes a little between plans, border included
@@ -742,30 +694,26 @@ def test_wavefront_leaves_the_gate_idle_and_reused_buffers_give_fresh_results() 
             args = (np.array([seed], np.int64), np.array([0.0], np.float32),
                     np.array([seed + 1, seed - 1, seed - nx, seed + nx], np.int64), target,
                     float(tables[0][0]), 100.0, cycles, bool(plan % 2), int(trial % 2), 40.0)
-            fresh = Workspace(tiled=tiled)
+            fresh = Workspace()
             fresh.ensure(nx, ny)
             want = run_wavefront(fresh, costs, tables, nx, ny, *args)
             got = run_wavefront(kept, costs, tables, nx, ny, *args)
             assert got == want, (trial, plan)
             np.testing.assert_array_equal(kept.pot, fresh.pot)
-            # the gate each run leaves behind is the one a fresh reset builds
-            pot, gate = np.empty_like(kept.pot), np.empty_like(kept.gate)
-            if tiled:
-                tcosts = np.empty_like(kept.tcosts)
-                tile_map(costs, nx, ny, tcosts, 254)
-                _reset_tiled(np.empty_like(kept.tpot), gate, tcosts, tables[0], nx, ny)
-            else:
-                reset_buffers(pot, gate, costs, tables[0], nx, ny)
-            np.testing.assert_array_equal(kept.gate, gate)
-            np.testing.assert_array_equal(fresh.gate, gate)
+            # the gates each run leaves behind are the ones a fresh reset builds
+            rec = np.empty_like(kept.rec)
+            reset_records(rec, costs, tables[0], nx, ny)
+            np.testing.assert_array_equal(kept.rec[1::2], rec[1::2])
+            np.testing.assert_array_equal(fresh.rec[1::2], rec[1::2])
+            assert (rec[0::2] == POT_HIGH).all()
 
 
 def test_zero_tolerance_search_is_the_goal_cell_test() -> None:
     """With no tolerance the search has one sample, the goal itself: it must answer as the
-    sampled square does for it (goal kept when its cell is on the map and reached), row-major
-    and tiled, also for goals on cell edges and just off the map."""
+    sampled square does for it (goal kept when its cell is on the map and reached), also for
+    goals on cell edges and just off the map, and read through a strided view of records."""
     from navcore.planners.common import search_tolerance
-    from navcore.planners.wavefront import POT_HIGH, layout_index
+    from navcore.planners.wavefront import POT_HIGH
 
     rng = np.random.default_rng(4)
     for trial in range(40):
@@ -773,10 +721,9 @@ def test_zero_tolerance_search_is_the_goal_cell_test() -> None:
         cm = Costmap2D(nx, ny, 0.05, float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)))
         pot = np.where(rng.random(nx * ny) < 0.3, POT_HIGH, rng.random(nx * ny) * 1e3)
         pot = pot.astype(np.float32)
-        for tiled in (False, True):
-            tpot = np.full(8 * ((nx + 7) // 8) * 8 * ((ny + 7) // 8), POT_HIGH, np.float32)
-            tpot[layout_index(np.arange(nx * ny), nx, True)] = pot
-            grid = tpot if tiled else pot
+        rec = np.full(2 * nx * ny, np.inf, np.float32)
+        rec[0::2] = pot
+        for grid in (pot, rec[0::2]):
             for _ in range(10):
                 cx, cy = rng.integers(-2, nx + 2), rng.integers(-2, ny + 2)
                 frac = rng.choice([0.0, 0.5, 0.999999, -0.0])
@@ -789,5 +736,5 @@ def test_zero_tolerance_search_is_the_goal_cell_test() -> None:
                 inside = (sx >= cm.origin_x) & (sy >= cm.origin_y) & (mx < nx) & (my < ny)
                 want = (float(sx[0]), float(sy[0])) \
                     if inside[0] and pot[my[0] * nx + mx[0]] < POT_HIGH else None
-                got = search_tolerance(cm, grid, goal, 0.0, tiled)
+                got = search_tolerance(cm, grid, goal, 0.0)
                 assert got == want, (trial, goal, got, want)

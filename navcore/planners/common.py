@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from navcore.costmap.costmap2d import Costmap2D
-from navcore.planners.wavefront import POT_HIGH, layout_index
+from navcore.planners.wavefront import POT_HIGH
 from navcore.types import Pose2D
 
 
@@ -15,11 +15,11 @@ def finite_pose(p: Pose2D) -> bool:
     return all(math.isfinite(v) for v in (p.x, p.y, p.theta))
 
 
-def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, tolerance: float,
-                     tiled: bool = False) -> tuple[float, float] | None:
+def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, tolerance: float
+                     ) -> tuple[float, float] | None:
     """navfn's goal tolerance: sample the square of half-side ``tolerance`` around the goal in
     ``resolution`` steps and return the sample closest to the goal whose cell has a potential
-    (``pot`` flat, in the wavefront's tiled layout when ``tiled``)."""
+    (``pot`` flat, row-major)."""
     res = costmap.resolution
     if tolerance <= 0.0:
         # the one sample is the goal itself (the arrays below cost ~0.1 ms for it)
@@ -29,7 +29,7 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
         if not (gx >= costmap.origin_x and gy >= costmap.origin_y and mx < costmap.size_x
                 and my < costmap.size_y):
             return None
-        v = pot[layout_index(my * costmap.size_x + mx, costmap.size_x, tiled)]
+        v = pot[my * costmap.size_x + mx]
         return (gx, gy) if v < POT_HIGH else None
     n = int(math.floor((2.0 * tolerance) / res + 1e-9)) + 1
     offs = -tolerance + res * np.arange(n)
@@ -44,8 +44,7 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
     if not inside.any():
         return None
     p = np.full(gx.shape, np.inf)
-    p[inside] = pot[layout_index(my[inside] * costmap.size_x + mx[inside], costmap.size_x,
-                                 tiled)]
+    p[inside] = pot[my[inside] * costmap.size_x + mx[inside]]
     ok = p < POT_HIGH
     if not ok.any():
         return None

@@ -24,7 +24,7 @@ from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.result import PlanResult
 from navcore.planners.traceback import STOP_NEAR_NEUTRAL, gradient_path
 from navcore.planners.wavefront import (BAND_NEUTRALS, POT_HIGH, Workspace, kernel_tables,
-                                        layout_index, run_wavefront)
+                                        run_wavefront)
 from navcore.types import Path, Pose2D
 
 COST_NEUTRAL = 50
@@ -101,22 +101,20 @@ class NavFn:
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         k = sc[1] * nx + sc[0]
         target = gc[1] * nx + gc[0] if gc is not None else 0  # off-map goal: ROS aims at cell 0
-        # the path is read off a tiled potential as it is; only a published one is converted
         _, self.last_updates, _ = run_wavefront(
             ws, costs, tables, nx, ny, np.array([k], np.int64),
             np.array([0.0], np.float32), np.array([k + 1, k - 1, k - nx, k + nx], np.int64),
-            target, float(COST_OBS), float(BAND_NEUTRALS * COST_NEUTRAL), 2 * nx * ny, True,
-            row_major=p.visualize_potential)
-        potential = ws.pot.reshape(ny, nx) if p.visualize_potential else None
-        pot, tiled = ws.last_potential()
-        best = search_tolerance(cm, pot, goal, tol, tiled)
+            target, float(COST_OBS), float(BAND_NEUTRALS * COST_NEUTRAL), 2 * nx * ny, True)
+        pot = ws.pot
+        potential = pot.reshape(ny, nx) if p.visualize_potential else None
+        best = search_tolerance(cm, pot, goal, tol)
         if best is None:
             passable = lut[cm.costs] < COST_OBS
             return PlanResult.failure(diagnose(passable, gc, self.last_updates), potential)
         bc = cm.world_to_map(*best)
         ok, xy = gradient_path(pot, nx, ny, float(bc[0]), float(bc[1]), STOP_NEAR_NEUTRAL,
                                float(sc[0]), float(sc[1]), max(4 * nx, nx * ny // 2),
-                               float(COST_OBS), tiled)
+                               float(COST_OBS))
         if not ok or len(xy) == 0:
             return PlanResult.failure("no_path", potential)
         poses = np.zeros((len(xy) + 1, 3))
@@ -130,6 +128,5 @@ class NavFn:
         c = self.costmap.world_to_map(x, y)
         if c is None or self._ws.shape != (self.costmap.size_x, self.costmap.size_y):
             return float("inf")
-        pot, tiled = self._ws.last_potential()
-        v = float(pot[layout_index(c[1] * self.costmap.size_x + c[0], self.costmap.size_x, tiled)])
+        v = float(self._ws.pot[c[1] * self.costmap.size_x + c[0]])
         return v if v < POT_HIGH else float("inf")

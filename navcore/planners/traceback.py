@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from navcore.planners.wavefront import POT_HIGH, TILE, _cell_xy, tile_index
+from navcore.planners.wavefront import POT_HIGH
 
 PATH_STEP = 0.5  # cells per gradient step (navfn pathStep)
 STOP_NEAR_NEUTRAL = 0  # navfn: stop where the potential drops below COST_NEUTRAL
@@ -36,18 +36,7 @@ def _int_trunc(v: float) -> float:
 
 
 @njit(cache=True, inline="always")
-def _at(pot: np.ndarray, n: int, nx: int, ntx: int, inv_nx: float, tiled: bool) -> float:
-    """The potential of row-major cell ``n`` from a row-major or tiled (``tile_index``) grid,
-    so that a path can be read off the wavefront's tiled copy without converting it back."""
-    if not tiled:
-        return pot[n]
-    x, y = _cell_xy(n, nx, ntx, False, inv_nx)
-    return pot[tile_index(x, y, ntx)]
-
-
-@njit(cache=True, inline="always")
-def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, ntx: int,
-               inv_nx: float, tiled: bool) -> tuple:
+def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tuple:
     """Unit descent direction at cell n, rounded to float32 as navfn stores it; (0, 0) on the
     first and last rows and where the gradient vanishes.
 
@@ -57,11 +46,11 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, ntx: 
     """
     if n < nx or n > ns - nx:
         return 0.0, 0.0
-    cv = _at(pot, n, nx, ntx, inv_nx, tiled)
-    pl = _at(pot, n - 1, nx, ntx, inv_nx, tiled)
-    pr = _at(pot, n + 1, nx, ntx, inv_nx, tiled)
-    pu = _at(pot, n - nx, nx, ntx, inv_nx, tiled)
-    pd = _at(pot, n + nx, nx, ntx, inv_nx, tiled)
+    cv = pot[n]
+    pl = pot[n - 1]
+    pr = pot[n + 1]
+    pu = pot[n - nx]
+    pd = pot[n + nx]
     dx = 0.0
     dy = 0.0
     if cv >= POT_HIGH:  # inside an obstacle: head for a reached neighbour
@@ -89,32 +78,29 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float, ntx: 
 
 
 @njit(cache=True, inline="always")
-def _unreached_near(pot: np.ndarray, stc: int, nx: int, ntx: int, inv_nx: float, tiled: bool
-                    ) -> bool:
+def _unreached_near(pot: np.ndarray, stc: int, nx: int) -> bool:
     """Whether cell ``stc`` or one of its 8 neighbours has no potential (one max over the nine:
     a loop over them or a chain of ``or`` tests took a third of a path's time)."""
     up = stc + nx
     dn = stc - nx
-    a = max(_at(pot, dn - 1, nx, ntx, inv_nx, tiled), _at(pot, dn, nx, ntx, inv_nx, tiled))
-    b = max(_at(pot, dn + 1, nx, ntx, inv_nx, tiled), _at(pot, stc - 1, nx, ntx, inv_nx, tiled))
-    c = max(_at(pot, stc, nx, ntx, inv_nx, tiled), _at(pot, stc + 1, nx, ntx, inv_nx, tiled))
-    d = max(_at(pot, up - 1, nx, ntx, inv_nx, tiled), _at(pot, up, nx, ntx, inv_nx, tiled))
-    e = _at(pot, up + 1, nx, ntx, inv_nx, tiled)
+    a = max(pot[dn - 1], pot[dn])
+    b = max(pot[dn + 1], pot[stc - 1])
+    c = max(pot[stc], pot[stc + 1])
+    d = max(pot[up - 1], pot[up])
+    e = pot[up + 1]
     return max(max(max(a, b), max(c, d)), e) >= POT_HIGH
 
 
 @njit(cache=True)
 def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float,
-                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float,
-                  tiled: bool = False) -> tuple:
+                  stop_mode: int, to_x: float, to_y: float, max_steps: int, obs_grad: float
+                  ) -> tuple:
     """Descend from (from_x, from_y) (cells, fractional allowed) to the seed at (to_x, to_y).
 
     Returns ``(ok, xy)`` with ``xy`` an (N, 2) float64 array of cell coordinates from the start of
-    the descent to the seed. With ``tiled`` the potential is in the wavefront's tiled layout.
+    the descent to the seed. ``pot`` may be a strided view (the wavefront's ``Workspace.pot``).
     """
     ns = nx * ny
-    ntx = (nx + TILE - 1) // TILE
-    inv_nx = 1.0 / nx
     stc = int(from_y) * nx + int(from_x)
     dx = from_x - int(from_x)
     dy = from_y - int(from_y)
@@ -141,7 +127,7 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
         if stop_mode == STOP_NEAR_NEUTRAL:
             near = stc + _round_half_away(dx) + nx * _round_half_away(dy)
             near = max(0, min(ns - 1, near))
-            if _at(pot, near, nx, ntx, inv_nx, tiled) < 50.0:
+            if pot[near] < 50.0:
                 xs[npath] = to_x
                 ys[npath] = to_y
                 npath += 1
@@ -162,19 +148,19 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
                        and ys[npath - 1] == ys[npath - 3])
         up = stc + nx
         dn = stc - nx
-        if oscillating or _unreached_near(pot, stc, nx, ntx, inv_nx, tiled):
+        if oscillating or _unreached_near(pot, stc, nx):
             # grid step to the lowest 8-neighbour; the C++ compares against an int copy
             minc = stc
-            minp = _int_trunc(_at(pot, stc, nx, ntx, inv_nx, tiled))
+            minp = _int_trunc(pot[stc])
             for st in (dn - 1, dn, dn + 1, stc - 1, stc + 1, up - 1, up, up + 1):
-                v = _at(pot, st, nx, ntx, inv_nx, tiled)
+                v = pot[st]
                 if v < minp:
                     minp = _int_trunc(v)
                     minc = st
             stc = minc
             dx = 0.0
             dy = 0.0
-            if _at(pot, stc, nx, ntx, inv_nx, tiled) >= POT_HIGH:
+            if pot[stc] >= POT_HIGH:
                 break
         else:
             if stc != gcell:
@@ -190,13 +176,13 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
                 elif step == -nx:
                     gx01, gy01, gx11, gy11 = gx00, gy00, gx10, gy10
                 if step != 1 and step != nx:
-                    gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                    gx00, gy00 = _grad_cell(pot, stc, nx, ns, obs_grad)
                 if step != -1 and step != nx:
-                    gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                    gx10, gy10 = _grad_cell(pot, stc + 1, nx, ns, obs_grad)
                 if step != 1 and step != -nx:
-                    gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                    gx01, gy01 = _grad_cell(pot, up, nx, ns, obs_grad)
                 if step != -1 and step != -nx:
-                    gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad, ntx, inv_nx, tiled)
+                    gx11, gy11 = _grad_cell(pot, up + 1, nx, ns, obs_grad)
                 gcell = stc
             x1 = (1.0 - dx) * gx00 + dx * gx10
             x2 = (1.0 - dx) * gx01 + dx * gx11
