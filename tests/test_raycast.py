@@ -218,3 +218,41 @@ def test_fan_casting_gives_the_exact_ranges_on_real_maps(shared_data, name):
         want = np.array([cast_ray(occ, 0.0, 0.0, 1.0, gx, gy, math.atan2(d[1], d[0]), 600.0)
                          for d in dirs[::9]])
         np.testing.assert_allclose(got[::9], want, rtol=0, atol=1e-9)
+
+
+def test_fan_casting_from_cell_faces_and_corners_along_the_axes():
+    """Starts exactly on cell faces, corners and the grid's own edges, beams exactly along the
+    axes (a zero direction component, faces met head-on), some leaving the grid at once: the
+    clearance casts still give the exact walk's ranges. (Diagonals only from half-cell offsets:
+    a ray through a lattice corner touches the two side cells in one point, which the exact
+    walk's tie rule counts as a hit and a clear disk may not.)"""
+    rng = np.random.default_rng(8)
+    occ = (rng.random((60, 80)) < 0.03).astype(np.uint8)
+    occ[20, 10:70] = 1
+    # near the right edge, so that a beam leaving there walks cell by cell; one cell past the
+    # end of row 30 in memory is the start of row 31: blocked, to catch a missed bounds test
+    occ[32, 76] = 1
+    occ[31, 0] = 1
+    clear = clearance_field(occ)
+    h, w = occ.shape
+    s = math.sqrt(0.5)
+    axes = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]]
+    diagonals = [[s, s], [-s, s], [-s, -s], [s, -s]]
+    starts = [(0.0, 0.0), (float(w) - 1e-9, 5.0), (0.0, 30.0), (40.0, 21.0), (40.0, 19.0),
+              (12.0, 45.0), (79.0, 59.0), (7.0, 0.0), (33.5, 50.0), (60.0, 7.5), (20.5, 0.0),
+              (70.0, 30.5), (74.5, 30.0)]
+    checked = 0
+    for gx, gy in starts:
+        if occ[min(int(gy), h - 1), min(int(gx), w - 1)]:
+            continue
+        half = (gx - gy) % 1.0 == 0.5
+        dirs = np.array(axes + diagonals if half else axes)
+        got = np.empty(len(dirs))
+        cast_fan_clear(clear, gx, gy, dirs, 200.0, got)
+        want = [cast_ray(occ, 0.0, 0.0, 1.0, gx, gy, math.atan2(d[1], d[0]), 200.0)
+                for d in dirs]
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+        single = [cast_dir_clear(clear, gx, gy, d[0], d[1], 200.0) for d in dirs]
+        np.testing.assert_allclose(single, want, rtol=0, atol=1e-9)
+        checked += len(dirs)
+    assert checked >= 50
