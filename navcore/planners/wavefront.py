@@ -99,7 +99,9 @@ shuffles (within 1 %); the band test branch-free, one push step selecting its qu
 the predicted branch lets them overlap); two queue cells a step with both new potentials computed
 before either is settled (exact: the second recomputed when the first is its neighbour; navfn
 -2 %, A* +3 %, not worth the code); ``PREFETCH_AHEAD`` 5 or 12 (+1..7 %); the records and queues
-on transparent huge pages (+0..3 %).
+on transparent huge pages (+0..3 %); wider bands (1000^2 navfn, 10 / 15 / 20 / 30 neutral costs:
+809k / 809k / 818k / 856k updates, kernel time within 2 %, goal potential moving 6e-6 / 2e-5 /
+8e-6 / 2e-4 from navfn's 2 x bands), so ``BAND_NEUTRALS`` stays 10.
 """
 
 from __future__ import annotations
