@@ -279,15 +279,19 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
     steps. Three beams in four leap not at all; one in four finds a kept disk that no longer
     covers it, drops the ~7 disks beyond and leaps afresh (the 7 % of beams with 9+ leaps). The
     march is inlined: its call with the array arguments cost more than the walk's mispredicted
-    branches (92 -> 80 us). With 2-8 MB of other data touched between scans, as in the simulator, the same
-    cast costs 10-23 % more (grid cache misses). Measured without gain (interleaved A/B, hot):
+    branches (92 -> 80 us). With 2-8 MB of other data touched between scans, as in the
+    simulator, the same cast costs 10-23 % more (grid cache misses). Measured without gain
+    (interleaved A/B, hot):
     the grid in 8x8 or 16x16 tiles, four cells of the walk loaded at once, the walked cells'
     disks kept for the next beam, leaps to the exit of the cell's own disk from clearance 2 on,
     leap thresholds 3, 5 and 6 (+2, 0, +2 %), exact line-by-line walks on per-axis free-run grids
     (1.7x slower); a branch-free walk step (select instead of branch: -3 % before inlining, +2 %
     after, +2-4 % on diagonal beams only), one combined test for clearance 0 or >= 4 (+5 %), a
     flat cell index (+1.5 %), truncation instead of floor when relocating (+7 %), the grid exit
-    from the walk's inverse directions instead of two divisions (+3.5 %); and for the disks:
+    from the walk's inverse directions instead of two divisions (+3.5 %), the range tested at
+    the hit instead of every step (+22 %: walks run on past it), a prefetch of the cell a few
+    beams ahead where this one ended (+9 % with polluted caches); and for the disks: all of a
+    beam's disk stretches first, vectorised, then the scan for the first gap (+12 %),
     resuming the slide after a leap on the disks beyond the one that failed (leaps 1.6 -> 0.8,
     disk tests 5.3 -> 6.7 a beam: +2-4 %, also with polluted caches), dropping the middle of
     three disks when the newest holds the first one's exit (tests 5.3 -> 4.2: +14 %), sliding on
