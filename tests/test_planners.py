@@ -738,3 +738,16 @@ def test_zero_tolerance_search_is_the_goal_cell_test() -> None:
                     if inside[0] and pot[my[0] * nx + mx[0]] < POT_HIGH else None
                 got = search_tolerance(cm, grid, goal, 0.0)
                 assert got == want, (trial, goal, got, want)
+
+
+def test_descent_direction_is_zero_on_the_whole_last_row_without_reading_past_the_map():
+    from navcore.planners.traceback import _grad_cell
+    nx, ny = 5, 4
+    ns = nx * ny
+    # a finite field everywhere, and one finite value just past the map's end: a cell test that
+    # lets the last row's first cell through reads it and returns a non-zero direction
+    memory = np.arange(ns + nx, dtype=np.float32)[::-1].copy()
+    pot = memory[:ns]
+    for n in range(ns - nx, ns):
+        assert _grad_cell(pot, n, nx, ns, 1.0) == (0.0, 0.0)
+    assert _grad_cell(pot, ns - 2 * nx, nx, ns, 1.0) != (0.0, 0.0)  # the row above has one

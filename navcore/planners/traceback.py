@@ -43,8 +43,10 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tu
     navfn caches these per cell, but its cache test (``gradx + grady > 0``) misses for every
     gradient pointing down or left, and the potential does not change while a path is extracted,
     so computing each one afresh gives the same values without two map-sized caches to reset.
+    navfn's row test lets the first cell of the last row through and reads one cell past the
+    end of the map there; here the whole last row gives (0, 0).
     """
-    if n < nx or n > ns - nx:
+    if n < nx or n >= ns - nx:
         return 0.0, 0.0
     cv = pot[n]
     pl = pot[n - 1]
