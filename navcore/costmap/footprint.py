@@ -17,6 +17,8 @@ from numba import carray, njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from navcore.prefetch import prefetch_cell
+
 NUM_RADIUS_VERTICES = 16  # makeFootprintFromRadius uses a 16-gon
 
 
@@ -101,27 +103,6 @@ def inscribed_radius(fp: np.ndarray) -> float:
 def circumscribed_radius(fp: np.ndarray) -> float:
     """Radius of the smallest origin-centred circle holding the footprint."""
     return _min_max_distances(fp)[1]
-
-
-@intrinsic
-def _prefetch(typingctx, arr, row, col):  # type: ignore[no-untyped-def]
-    """Hint the CPU to fetch cell [row, col] of a C-contiguous 2-D array into cache (a hint
-    only: never faults, changes nothing)."""
-    if not (isinstance(arr, types.Array) and arr.ndim == 2):
-        return None
-
-    def codegen(context, builder, sig, args):
-        a = context.make_array(sig.args[0])(context, builder, args[0])
-        ptr = cgutils.get_item_pointer(context, builder, sig.args[0], a, [args[1], args[2]],
-                                       wraparound=False)
-        i8p = ir.IntType(8).as_pointer()
-        fn = cgutils.get_or_insert_function(
-            builder.module, ir.FunctionType(ir.VoidType(), [i8p, ir.IntType(32), ir.IntType(32),
-                                                            ir.IntType(32)]), "llvm.prefetch.p0i8")
-        i32 = ir.IntType(32)
-        builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])
-        return context.get_dummy_value()
-    return types.none(arr, row, col), codegen
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -291,8 +272,8 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     # ask for both ends of each row's bounding-box stretch first: the fetches overlap, so on a
     # large costmap that is not in cache the rows cost about one memory latency, not one each
     for row in range(r0, r0 + rows):
-        _prefetch(costs, row, int(umin))
-        _prefetch(costs, row, int(umax))
+        prefetch_cell(costs, row, int(umin))
+        prefetch_cell(costs, row, int(umax))
     # convex iff the turns never change sign (collinear vertices do not count)
     left = False
     right = False

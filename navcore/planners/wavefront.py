@@ -114,6 +114,8 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.core.extending import intrinsic
 
+from navcore.prefetch import prefetch_write
+
 POT_HIGH = np.float32(1.0e10)
 INVSQRT2 = 0.707106781
 
@@ -142,26 +144,6 @@ HEURISTIC_EUCLIDEAN = 2
 # push rule) at 2n + 1, so an update finds both of a neighbour's values in one cache line.
 POT = 0
 GATE = 1
-
-
-@intrinsic
-def _prefetch_write(typingctx, arr, i):  # type: ignore[no-untyped-def]
-    """Hint the CPU to fetch element ``i`` of a 1-D array, for writing (``prefetchw``); a hint
-    only: never faults, changes nothing."""
-    if not (isinstance(arr, types.Array) and arr.ndim == 1):
-        return None
-
-    def codegen(context, builder, sig, args):  # type: ignore[no-untyped-def]
-        a = context.make_array(sig.args[0])(context, builder, args[0])
-        ptr = builder.gep(a.data, [args[1]])
-        i8p = ir.IntType(8).as_pointer()
-        i32 = ir.IntType(32)
-        fn = cgutils.get_or_insert_function(
-            builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-            "llvm.prefetch.p0i8")
-        builder.call(fn, [builder.bitcast(ptr, i8p), i32(1), i32(3), i32(1)])
-        return context.get_dummy_value()
-    return types.none(arr, i), codegen
 
 
 @njit(cache=True, inline="always")
@@ -361,10 +343,10 @@ def _make_propagate(quadratic: bool, astar: bool):
                     # places ahead in the queue while this one is updated (same results); a
                     # record holds potential and gate, so three lines plus the cost
                     f = np.uintp(cur[i + ahead])
-                    _prefetch_write(rec, two * (f - unx))
-                    _prefetch_write(rec, two * f)
-                    _prefetch_write(rec, two * (f + unx))
-                    _prefetch_write(costs, f)
+                    prefetch_write(rec, two * (f - unx))
+                    prefetch_write(rec, two * f)
+                    prefetch_write(rec, two * (f + unx))
+                    prefetch_write(costs, f)
                 cn = np.uintp(costs[n]) << np.uintp(2)
                 if not from_over:
                     # a queue filled as ``next`` holds each cell once, so it turns idle as it
