@@ -78,8 +78,9 @@ def _simulator(world: World, imu: bool, seed: int) -> tuple[Simulator, SimClock]
 def run(world: World, seconds: float, imu: bool, seed: int = 0) -> tuple[float, float, Simulator]:
     """(CPU factor, wall factor, the simulator) of one wanderer. The wanderer drives a first run
     and its commands are recorded; a second simulator with the same seed then replays them under
-    the timers (one seed, one trace: checked), so the figure holds the simulator's work only,
-    not the wanderer's nor two timer reads a step (~2 us, 2 % of a step)."""
+    the timers (one seed, one trace: checked), so the figure holds the simulator's work only:
+    not the wanderer's, nor two timer reads a step (system calls, which on a host with
+    page-table isolation slowed the steps after them by 15-20 %)."""
     period = 0.05
     steps = int(round(seconds / period))
     sim, clock = _simulator(world, imu, seed)

@@ -144,8 +144,7 @@ class Simulator:
         self._battery = (bp.idle_power_w, bp.drive_energy_j_per_m, bp.turn_energy_j_per_rad,
                          bp.capacity_wh * 3600.0, bp.initial_percentage, bp.voltage_empty,
                          bp.voltage_full)
-        self._alphas = (b.odom_alpha1, b.odom_alpha2, b.odom_alpha3, b.odom_alpha4,
-                        b.odom_alpha5)
+        alphas = (b.odom_alpha1, b.odom_alpha2, b.odom_alpha3, b.odom_alpha4, b.odom_alpha5)
         self._cmd = (0.0, 0.0, 0.0)  # (vx, vy, wz), finite floats
         self._cmd_until = 0  # first step at which the current command has timed out
         self._timeout_steps = max(1, _ceil_step(b.cmd_vel_timeout / self._dt))
@@ -162,8 +161,8 @@ class Simulator:
         self._odom_normals = np.zeros(0)
         self._imu_normals = np.zeros(0)
         lim[ph.L_ODOM_P] = (1.0 / b.odom_rate) / self._dt
-        lim[ph.L_A1:ph.L_A5 + 1] = self._alphas
-        self._noisy_odom = any(a > 0.0 for a in self._alphas)
+        lim[ph.L_A1:ph.L_A5 + 1] = alphas
+        self._noisy_odom = any(a > 0.0 for a in alphas)
         self._odom_msg: Odometry | None = None
         self._odom_msg_step = -1.0
         # laser

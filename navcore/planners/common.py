@@ -24,13 +24,10 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
     if tolerance <= 0.0:
         # the one sample is the goal itself (the arrays below cost ~0.1 ms for it)
         gx, gy = goal.x + 0.0, goal.y + 0.0  # + 0.0 as the sampling adds its offset
-        mx = math.floor((gx - costmap.origin_x) / res)
-        my = math.floor((gy - costmap.origin_y) / res)
-        if not (gx >= costmap.origin_x and gy >= costmap.origin_y and mx < costmap.size_x
-                and my < costmap.size_y):
+        cell = costmap.world_to_map(gx, gy)
+        if cell is None:
             return None
-        v = pot[my * costmap.size_x + mx]
-        return (gx, gy) if v < POT_HIGH else None
+        return (gx, gy) if pot[cell[1] * costmap.size_x + cell[0]] < POT_HIGH else None
     n = int(math.floor((2.0 * tolerance) / res + 1e-9)) + 1
     offs = -tolerance + res * np.arange(n)
     offs = offs[offs <= tolerance + 1e-12]

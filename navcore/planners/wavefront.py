@@ -331,9 +331,7 @@ def _make_propagate(quadratic: bool, astar: bool):
             if from_over:
                 # a former overflow queue may hold a cell twice: make all idle first, as navfn
                 # clears its flags
-                for i in range(ncur):
-                    m = cur[i]
-                    rec[2 * m + GATE] = lut_push[costs[m]]
+                _make_idle(rec, costs, lut_push, cur, ncur)
             ahead = np.uintp(PREFETCH_AHEAD)  # unsigned like i: an int/uint mix compares as float
             for i in range(ncur):
                 # unsigned indices: numba then skips its negative-index wraparound test
