@@ -1,12 +1,17 @@
 """The Executive: one object owning the components, the tree, the clock, the safety gate and the
-recorder, running the control cycle of DESIGN.md section 2 (sense, estimate, perceive, decide,
-act, record, wait).
+recorder, running the control cycle of DESIGN.md section 2.
 
-It knows the robot only through a ``RobotIO`` (the simulator or real drivers) and the components
-only through the contract of ``behaviors.components``. A behaviour that raises fails on its own
-with the error recorded; an error anywhere else in a tick stops the robot for that tick and the
-loop carries on. Each Executive keeps its blackboard keys under its own namespace, so two missions
-in one process never see each other's goal or path.
+One cycle (``Executive.step``) calls, in order: the robot I/O (``hw.interfaces.RobotIO``; the
+adapters are in executive/robot_io.py) to **sense**; ``Perception`` (executive/perception.py) to
+**estimate** the pose (AMCL) and **perceive** (feed scans to the costmaps and update those due);
+the tree (py_trees, loaded by executive/tree_loader.py; the components it calls are the ``Stack``
+of executive/stack.py) to **decide**; the ``SafetyGate`` (executive/safety.py) and the base to
+**act**; the ``Recorder`` (executive/recorder.py) to **record**; the clock to **wait**.
+``executive/mission.py`` wires these from a config; ``executive/api.py`` is the public face.
+
+A behaviour that raises fails on its own with the error recorded; an error anywhere else in a
+tick stops the robot for that tick and the loop carries on. Each Executive keeps its blackboard
+keys under its own namespace, so two missions in one process never see each other's goal or path.
 """
 
 from __future__ import annotations
@@ -14,16 +19,17 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable, Protocol
+from typing import Any, Callable
 
 import py_trees
 from py_trees.common import Status
 
 from behaviors.base import FAILURE, SUCCESS, Leaf
-from hw.interfaces import Base, BaseEvents, BatteryState, Laser
+from hw.interfaces import BaseEvents, BatteryState, RobotIO
 from navcore.clock import Clock, WallClock
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
 
+from executive.perception import Perception
 from executive.recorder import BlackboardWatcher, Recorder, subsample_path, walk
 from executive.safety import SafetyGate
 
@@ -38,29 +44,6 @@ RECOVERY_TYPES = frozenset({
 _mission_ids = itertools.count(1)
 _NOOP_INITIALISE = py_trees.behaviour.Behaviour.initialise
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
-
-
-class RobotIO(Protocol):
-    """The robot as the executive sees it: the simulator or a set of real drivers."""
-
-    base: Base
-    laser: Laser | None
-
-    def step_to(self, t: float) -> None:
-        """Bring the world up to time ``t`` (the simulator steps physics; hardware does nothing)."""
-        ...
-
-    def true_pose(self) -> Pose2D | None:
-        """Ground truth in ``map`` (simulator only; None on hardware)."""
-        ...
-
-    def in_collision(self) -> bool:
-        """Whether the body overlaps an obstacle right now (simulator) or a bumper is pressed."""
-        ...
-
-
-Estimator = Callable[[Odometry | None, LaserScan | None, float], Pose2D | None]
-Perceiver = Callable[[Pose2D, LaserScan | None, float], None]
 
 
 class LiveRobotState:
@@ -137,14 +120,14 @@ class Executive:
 
     ``components`` are the keyword arguments of ``tree.setup`` (see behaviors.components); the
     executive adds ``clock``, ``robot``, ``control_period`` and ``blackboard_namespace``.
-    ``estimator`` turns odometry and scans into a ``map`` pose (None: simulator ground truth);
-    ``perceivers`` update the costmaps from the pose and newest scan.
+    ``perception`` estimates the ``map`` pose and updates the costmaps (None: the pose is the
+    robot I/O's ground truth, else its odometry, and nothing updates costmaps).
     """
 
     def __init__(self, tree: py_trees.trees.BehaviourTree, io: RobotIO, clock: Clock,
                  control_period: float, components: dict[str, Any] | None = None, *,
                  safety: SafetyGate | None = None, recorder: Recorder | None = None,
-                 estimator: Estimator | None = None, perceivers: list[Perceiver] | None = None,
+                 perception: Perception | None = None,
                  namespace: str | None = None, meta: dict[str, Any] | None = None,
                  wall_clock: Clock | None = None) -> None:
         if control_period <= 0:
@@ -156,8 +139,7 @@ class Executive:
         self.components = dict(components or {})
         self.safety = safety if safety is not None else SafetyGate(require_laser=io.laser is not None)
         self.recorder = recorder if recorder is not None else Recorder(None)
-        self.estimator = estimator
-        self.perceivers = list(perceivers or [])
+        self.perception = perception
         self.namespace = namespace or f"/mission_{next(_mission_ids)}"
         self.robot = LiveRobotState()
         self.trace = Trace()
@@ -258,8 +240,34 @@ class Executive:
     def blackboard_get(self, key: str, default: Any = None) -> Any:
         return py_trees.blackboard.Blackboard.storage.get(f"{self.namespace}/{key}", default)
 
-    # --- the cycle ----------------------------------------------------------------------------
+    # --- the cycle (DESIGN.md section 2) ------------------------------------------------------
+    def step(self) -> Status:
+        """Run one control cycle and return the root's status after the tick."""
+        if not self._started:
+            self._start_recording()
+        wall0 = self._wall.now()
+        now = self.clock.now()
+        pose = self.robot.pose()
+        try:
+            self._sense(now)
+            pose = self._estimate()
+            self._perceive(pose, now)
+        except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
+            self._error("executive", "sense", e)
+        requested = self._decide()
+        cmd = self._act(requested, now)
+        status = self.tree.root.status
+        self._record(now, pose, cmd, status, wall0)
+        self._wait(now)
+        return status
+
+    def _start_recording(self) -> None:
+        self.recorder.start(self.tree.root, dict(self._meta, namespace=self.namespace,
+                                                 period=self.period))
+        self._started = True
+
     def _sense(self, now: float) -> None:
+        """The robot I/O up to ``now``; keep the newest odometry and scan."""
         self.io.step_to(now)
         odom = self.io.base.odometry()
         if odom is not None:
@@ -269,10 +277,12 @@ class Executive:
             if scan is not None:
                 self._last_scan = scan
 
-    def _estimate(self, now: float) -> Pose2D:
+    def _estimate(self) -> Pose2D:
+        """The pose in ``map``: the localiser's, else ground truth, else odometry, else the last
+        one; the behaviours' RobotState follows."""
         pose = None
-        if self.estimator is not None:
-            pose = self.estimator(self._last_odom, self._last_scan, now)
+        if self.perception is not None:
+            pose = self.perception.estimate(self._last_odom, self._last_scan)
         if pose is None:
             pose = self.io.true_pose()
         if pose is None and self._last_odom is not None:
@@ -285,42 +295,30 @@ class Executive:
         r._events = self.io.base.events()
         return pose
 
-    def step(self) -> Status:
-        """Run one full control cycle and return the root's status after the tick."""
-        if not self._started:
-            self.recorder.start(self.tree.root, dict(self._meta, namespace=self.namespace,
-                                                     period=self.period))
-            self._started = True
-        wall0 = self._wall.now()
-        now = self.clock.now()
-        pose = self.robot.pose()
-        try:
-            self._sense(now)
-            pose = self._estimate(now)
-            for perceive in self.perceivers:
-                perceive(pose, self._last_scan, now)
-        except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
-            self._error("executive", "sense", e)
+    def _perceive(self, pose: Pose2D, now: float) -> None:
+        if self.perception is not None:
+            self.perception.perceive(pose, self._last_scan, now)
 
+    def _decide(self) -> Twist | None:
+        """Tick the tree once; the ``cmd_vel`` written during this tick, None if none was or
+        the tick raised (whatever was written before the fault is not trusted)."""
         storage = _BLACKBOARD.storage
         storage[self._cmd_key] = None  # direct: the client's access checks cost more than a tick
-        tick_ok = True
         try:
             self.tree.tick()
         except Exception as e:  # noqa: BLE001 - a control node's bug: stop, keep looping
-            tick_ok = False
             self._error("tree", "tick", e)
             try:
                 self.tree.interrupt()
             except Exception:  # noqa: BLE001
                 pass
+            return None
         requested = storage.get(self._cmd_key)
-        if not isinstance(requested, Twist):
-            requested = None
-        if not tick_ok:
-            requested = None  # whatever was written before the fault is not trusted
+        return requested if isinstance(requested, Twist) else None
 
-        scan, odom, trace, io = self._last_scan, self._last_odom, self.trace, self.io
+    def _act(self, requested: Twist | None, now: float) -> Twist:
+        """Pass the request through the safety gate and send what it lets through."""
+        scan, odom, trace = self._last_scan, self._last_odom, self.trace
         gate = self.safety.filter(
             requested, now,
             scan_stamp=scan.stamp if scan is not None else None,
@@ -332,11 +330,16 @@ class Executive:
             self._events.append({"fault": f})
         cmd = gate.cmd
         try:
-            io.base.send(cmd)
+            self.io.base.send(cmd)
         except Exception as e:  # noqa: BLE001
             self._error("base", "send", e)
         self.last_cmd = cmd
+        return cmd
 
+    def _record(self, now: float, pose: Pose2D, cmd: Twist, status: Status,
+                wall0: float) -> None:
+        """The trace (pose, contacts, paths) and one tick record."""
+        trace, io = self.trace, self.io
         truth = io.true_pose()
         drawn = truth if truth is not None else pose
         trace.times.append(now)
@@ -345,7 +348,6 @@ class Executive:
             if not trace.contacts or now - trace.contacts[-1]["t"] > 1.0:
                 self._events.append({"contact": [round(drawn.x, 3), round(drawn.y, 3)]})
             trace.contacts.append({"t": now, "pose": [drawn.x, drawn.y, drawn.theta]})
-
         bb = self._watcher.changes()
         if bb:
             path = bb.get("path")
@@ -356,12 +358,13 @@ class Executive:
         if elapsed > self.period:
             overrun = 1000.0 * elapsed
             trace.overruns += 1
-        status = self.tree.root.status
         self.recorder.record(self.tick_count, now, pose, cmd, bb, self._events, overrun, status)
         self._events = []
         self.tick_count += 1
+
+    def _wait(self, now: float) -> None:
+        """One period on the clock: a simulated clock jumps, a wall clock sleeps."""
         self.clock.sleep_until(now + self.period)
-        return status
 
     def stop_robot(self) -> None:
         try:

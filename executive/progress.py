@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import sys
-from typing import TextIO
+from typing import Any, TextIO
+
+from navcore.clock import WallClock
 
 
 class Progress:
@@ -38,3 +40,27 @@ def bar(fraction: float, width: int = 20) -> str:
     fraction = min(1.0, max(0.0, fraction))
     full = int(round(fraction * width))
     return "[" + "#" * full + "." * (width - full) + "]"
+
+
+class TickProgress:
+    """An ``on_tick`` for ``Executive.run`` that updates a Progress line with simulated time,
+    the speed-up over the wall clock, the pose and the recoveries so far."""
+
+    def __init__(self, progress: Progress, time_limit: float, label: str = "") -> None:
+        self.progress = progress
+        self.time_limit = time_limit
+        self.label = label
+        self._wall = WallClock()
+
+    def __call__(self, ex: Any) -> None:
+        t = ex.clock.now()
+        w = max(self._wall.now(), 1e-6)
+        p = ex.robot.pose()
+        self.progress.update(f"{self.label}{bar(t / self.time_limit)} t={t:6.1f}s x{t / w:5.1f} "
+                             f"pose=({p.x:5.2f},{p.y:5.2f}) "
+                             f"recoveries={len(ex.trace.recoveries)}")
+
+
+def progress_callback(progress: Progress, time_limit: float, label: str = "") -> TickProgress:
+    """``TickProgress(progress, time_limit, label)``."""
+    return TickProgress(progress, time_limit, label)

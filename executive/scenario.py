@@ -21,6 +21,8 @@ from navcore.maps import MapError, OccupancyGrid, load_map
 from navcore.params import suggest
 from navcore.types import Pose2D
 
+from executive.world import MovingObstacle, Shape, World
+
 
 class ScenarioError(ValueError):
     """A scenario file is unreadable or malformed; the message names file and field."""
@@ -37,52 +39,6 @@ EXPECT_KEYS = ("outcome", "recoveries_fired", "recoveries_not_fired", "no_collis
 # the world but not in the map (the robot only sees it with its laser), 'P' a phantom obstacle:
 # in the costmap but not in the world (it stays until a recovery clears the costmap).
 _ASCII_FREE = ". SGoP"
-
-
-@dataclass
-class Shape:
-    """A box ``[x0, y0, x1, y1]`` or a circle ``[x, y, r]`` in map coordinates (m)."""
-
-    kind: str
-    values: tuple[float, ...]
-
-    def polygon(self, n: int = 16) -> list[tuple[float, float]]:
-        if self.kind == "box":
-            x0, y0, x1, y1 = self.values
-            return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-        x, y, r = self.values
-        return [(x + r * math.cos(2 * math.pi * i / n), y + r * math.sin(2 * math.pi * i / n))
-                for i in range(n)]
-
-
-@dataclass
-class MovingObstacle:
-    """A circle of ``radius`` that waits at ``waypoints[0]`` until ``start_time``, then moves
-    through the waypoints at ``speed`` (and stays at the last one, or loops)."""
-
-    radius: float
-    waypoints: list[tuple[float, float]]
-    speed: float
-    start_time: float = 0.0
-    loop: bool = False
-
-    def position(self, t: float) -> tuple[float, float]:
-        pts = self.waypoints
-        if t <= self.start_time or len(pts) == 1 or self.speed <= 0:
-            return pts[0]
-        s = (t - self.start_time) * self.speed
-        seg = [math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(pts, pts[1:])]
-        total = sum(seg)
-        if total <= 0:
-            return pts[0]
-        if self.loop:
-            s = s % total
-        for (a, b), d in zip(zip(pts, pts[1:]), seg):
-            if s <= d and d > 0:
-                f = s / d
-                return a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])
-            s -= d
-        return pts[-1]
 
 
 @dataclass
@@ -434,7 +390,7 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     from navcore.clock import WallClock
 
     from executive.config import ConfigError
-    from executive.mission import World, build_mission, run_mission
+    from executive.mission import build_mission, run_mission
     from executive.recorder import Recorder
     wall = WallClock()
     tree_name = FsPath(tree_path).stem

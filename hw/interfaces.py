@@ -67,3 +67,27 @@ class ImuSensor(Protocol):
 
     def imu(self) -> Imu | None:
         ...
+
+
+class RobotIO(Protocol):
+    """A whole robot as the executive drives it: the simulator, a set of drivers, or your own.
+
+    Implement this to run navbt on your robot (``docs/api.md``): a ``base`` and, if there is one,
+    a ``laser``; ``step_to`` is called at the start of every control cycle with the clock's time.
+    An optional ``close()`` is called when a mission built by ``executive.api`` is closed.
+    """
+
+    base: Base
+    laser: Laser | None
+
+    def step_to(self, t: float) -> None:
+        """Bring the world up to time ``t`` (the simulator steps physics; hardware does nothing)."""
+        ...
+
+    def true_pose(self) -> Pose2D | None:
+        """Ground truth in ``map`` (simulator only; None on hardware)."""
+        ...
+
+    def in_collision(self) -> bool:
+        """Whether the body overlaps an obstacle right now (simulator) or a bumper is pressed."""
+        ...

@@ -1,4 +1,4 @@
-"""executive.mission.LazyScans: costmaps fed lazily end up exactly as with every scan added."""
+"""LayeredCostmap.queue_scan: costmaps fed lazily end up exactly as with every scan added."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 from executive.loading import shipped_tree
-from executive.mission import LazyScans, World, build_mission
+from executive.mission import World, build_mission
 from executive.scenario import load_scenario, scenario_config
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -20,15 +20,13 @@ def _mission(scenario):
                          world=world, seed=scenario.seed)
 
 
-def test_lazy_scans_give_the_same_costmaps_tick_by_tick_through_clears_and_resets(monkeypatch):
+def test_lazy_scans_give_the_same_costmaps_tick_by_tick_through_clears_and_resets():
     # The phantom obstacle blocks the way until a clearing recovery removes it: the run goes
     # through ClearCostmapExceptRegion (clear_outside) and ClearEntireCostmap (reset_layers).
     s = load_scenario(os.path.join(HERE, "scenarios", "phantom_obstacle.yaml"))
     lazy, eager = _mission(s), _mission(s)
-    eager_maps = {id(eager.components[k]) for k in ("local_costmap", "global_costmap")}
-    newest_only = LazyScans.newest_only
-    monkeypatch.setattr(LazyScans, "newest_only", staticmethod(
-        lambda cm: id(cm) not in eager_maps and newest_only(cm)))  # eager: every scan added
+    for k in ("local_costmap", "global_costmap"):
+        eager.components[k].defer_scans = False      # eager: every scan added at once
     for m in (lazy, eager):
         m.executive.set_goal(s.goals[0])
     adds = {"lazy": 0, "eager": 0}
@@ -60,15 +58,14 @@ def test_lazy_scans_match_eager_adds_under_random_scans_updates_clears_and_reset
     """Random interleavings on two copies of the real costmaps: the lazy copy matches the one
     fed every scan at once after every operation, including clears (which recompose the map
     from the buffers at once) and resets (which empty them)."""
-    from executive.mission import _costmaps
+    from executive.stack import build_costmaps
     from navcore.clock import SimClock
     from navcore.types import LaserScan, Pose2D
 
     s = load_scenario(os.path.join(HERE, "scenarios", "phantom_obstacle.yaml"))
     config = scenario_config(s)
     clock = SimClock()
-    eager, lazy = _costmaps(config, s.grid, clock), _costmaps(config, s.grid, clock)
-    scans = LazyScans(list(lazy))
+    eager, lazy = build_costmaps(config, s.grid, clock), build_costmaps(config, s.grid, clock)
     rng = np.random.default_rng(11)
     x0, y0 = s.start.x, s.start.y
     n_ops = {"scan": 0, "update": 0, "clear": 0, "reset": 0, "param": 0}
@@ -84,9 +81,8 @@ def test_lazy_scans_match_eager_adds_under_random_scans_updates_clears_and_reset
                              4.0, ranges)
             for e, l in zip(eager, lazy):
                 e.add_scan(scan, pose)
-                scans.add(l, scan, pose)
+                l.queue_scan(scan, pose)
         elif op == "update":
-            scans.flush(lazy[which])
             eager[which].update_map(pose)
             lazy[which].update_map(pose)
         elif op == "clear":

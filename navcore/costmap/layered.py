@@ -164,6 +164,9 @@ class LayeredCostmap:
         self.warnings: list[str] = []  # parameters accepted but without effect, as in ROS
         self._last_pose: Pose2D | None = None
         self.last_window: tuple[int, int, int, int] | None = None
+        # queue_scan's scan not yet added to the layers (see there); False: add every scan at once
+        self.defer_scans = True
+        self._pending_scan: tuple[LaserScan, Pose2D] | None = None
         for layer in layers:
             layer.rolling = self.rolling
         self._match_size()
@@ -172,6 +175,10 @@ class LayeredCostmap:
         elif any(isinstance(l, StaticLayer) for l in layers):
             raise ParameterError(f"{name}: a static layer needs a map (pass static_map)")
         self.set_footprint(footprint)
+        # a kept scan is added with the parameters it arrived under (obstacle_range, heights,
+        # persistence...), as it would have been at once
+        for p in self.parameter_namespaces().values():
+            p.before_change(self._add_pending_scan)
 
     # ------------------------------------------------------------ construction
 
@@ -277,6 +284,37 @@ class LayeredCostmap:
             if source is None or source in layer.buffers:
                 layer.add_scan(scan, sensor_pose, sensor_z, source)
 
+    def queue_scan(self, scan: LaserScan, sensor_pose: Pose2D) -> None:
+        """``add_scan`` for a costmap fed every control cycle, done lazily when it can be.
+
+        When every sensor buffer keeps only its newest reading and checks no reading rate
+        (ROS's defaults: ``observation_persistence`` and ``expected_update_rate`` 0), only the
+        last scan before the buffers are read matters: the scan is kept and added (converted to
+        points) just before the next ``update_map``, clear or parameter change; a reset drops
+        it, as it would have emptied the buffers. The map is exactly as with every scan added
+        at once, at one conversion per update instead of one per scan. Scans are values:
+        nobody changes one after publishing it."""
+        if (self.defer_scans and math.isfinite(sensor_pose.x) and math.isfinite(sensor_pose.y)
+                and self._newest_only()):  # (an unusable pose still fails at once)
+            self._pending_scan = (scan, sensor_pose)
+        else:
+            self._add_pending_scan()
+            self.add_scan(scan, sensor_pose)
+
+    def _newest_only(self) -> bool:
+        for layer in self.obstacle_layers():
+            for buf in layer.buffers.values():
+                p = buf.params
+                if p.observation_persistence != 0.0 or p.expected_update_rate != 0.0:
+                    return False
+        return True
+
+    def _add_pending_scan(self, _new_values: Any = None) -> None:
+        item = self._pending_scan
+        if item is not None:
+            self._pending_scan = None
+            self.add_scan(*item)
+
     def add_points(self, points: np.ndarray, origin, source: str | None = None) -> None:
         """Points (N, 3) in the global frame seen from ``origin`` (x, y, z)."""
         for layer in self.obstacle_layers():
@@ -296,6 +334,7 @@ class LayeredCostmap:
 
         Returns the cell window [x0, xn) x [y0, yn) that was recomposed, or None.
         """
+        self._add_pending_scan()
         x, y, yaw = float(robot_pose.x), float(robot_pose.y), float(robot_pose.theta)
         if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(yaw)):
             # called from the control loop: report, do not raise; the map stays as it was
@@ -335,6 +374,7 @@ class LayeredCostmap:
     def reset_layers(self) -> None:
         """Clear every layer and the master (clear_costmap: everything); the static map and
         fresh sensor data come back on the next update."""
+        self._pending_scan = None
         self.costmap.reset()
         for layer in self.layers:
             layer.reset()
@@ -349,6 +389,7 @@ class LayeredCostmap:
 
     def _clear(self, x: float, y: float, reset_distance: float, invert: bool,
                layer_names: Iterable[str] | None) -> None:
+        self._add_pending_scan()   # the clear must see every scan that came before it
         half = reset_distance / 2.0
         for layer in self._clearable(layer_names):
             g = layer.grid
