@@ -165,6 +165,7 @@ class Executive:
         self._last_scan: LaserScan | None = None
         self._last_odom: Odometry | None = None
         self._started = False
+        self.recorder.attach(self)
 
     # --- guarding -----------------------------------------------------------------------------
     def _guard_nodes(self) -> None:

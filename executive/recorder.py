@@ -125,14 +125,102 @@ class BlackboardWatcher:
         return out
 
 
-class Recorder:
-    """Writes the tick log to a text stream (or keeps nothing when ``stream`` is None)."""
+class NodeStatsVisitor(py_trees.visitors.VisitorBase):
+    """Counts, per node, the ticks, SUCCESS and FAILURE results and the ticks spent RUNNING,
+    and keeps the last failure that propagated: a leaf that failed with its parent failing in
+    the same tick, up to the highest ancestor that failed (where the failure was caught).
+    A py_trees visitor: it sees each node as it finishes its tick."""
 
-    def __init__(self, stream: TextIO | None) -> None:
+    def __init__(self, nodes: list[py_trees.behaviour.Behaviour], period: float) -> None:
+        super().__init__(full=False)
+        self.period = period
+        self._index = {id(n): i for i, n in enumerate(nodes)}
+        self._parent = [self._index.get(id(n.parent), -1) if n.parent is not None else -1
+                        for n in nodes]
+        self._leaf = [not getattr(n, "children", None) for n in nodes]
+        self.counts = [[0, 0, 0, 0] for _ in nodes]  # ticks, success, failure, running
+        self.last_failure: list[int] | None = None   # root-first chain of node indices
+        self.last_failure_tick = -1
+        self._failed: list[int] = []
+        self._tick = -1
+
+    def initialise(self) -> None:
+        self._failed = []
+        self._tick += 1
+
+    def run(self, behaviour: py_trees.behaviour.Behaviour) -> None:
+        i = self._index.get(id(behaviour))
+        if i is None:
+            return
+        row = self.counts[i]
+        row[0] += 1
+        s = behaviour.status
+        if s is _SUCCESS:
+            row[1] += 1
+        elif s is _FAILURE:
+            row[2] += 1
+            self._failed.append(i)
+        elif s is _RUNNING:
+            row[3] += 1
+
+    def finalise(self) -> None:
+        if not self._failed:
+            return
+        failed = set(self._failed)
+        best: list[int] = []
+        for i in self._failed:
+            if not self._leaf[i]:
+                continue
+            chain, p = [i], self._parent[i]
+            while p >= 0 and p in failed:
+                chain.append(p)
+                p = self._parent[p]
+            if len(chain) > len(best):
+                best = chain
+        if len(best) >= 2:
+            self.last_failure = best[::-1]
+            self.last_failure_tick = self._tick
+
+    def as_lists(self) -> list[list[float]]:
+        """``[ticks, successes, failures, running_s]`` per node in pre-order."""
+        return [[a, b, c, round(d * self.period, 3)] for a, b, c, d in self.counts]
+
+
+_SUCCESS = py_trees.common.Status.SUCCESS
+_FAILURE = py_trees.common.Status.FAILURE
+_RUNNING = py_trees.common.Status.RUNNING
+
+
+class Recorder:
+    """Writes the tick log to a text stream (or keeps nothing when ``stream`` is None).
+
+    ``sinks`` see every tick too (the run's MCAP file, the live Foxglove server, the replay
+    page's data): each has ``start(header, executive)``, ``tick(line, executive)`` and
+    ``finish(footer)``."""
+
+    def __init__(self, stream: TextIO | None, sinks: list[Any] | None = None) -> None:
         self.stream = stream
+        self.sinks = list(sinks or [])
         self._nodes: list[py_trees.behaviour.Behaviour] = []
         self._last_status: list[str] = []
         self.ticks = 0
+        self.node_stats: NodeStatsVisitor | None = None
+        self._executive: Any = None
+
+    @property
+    def active(self) -> bool:
+        """Whether anything is kept (a log stream or a sink)."""
+        return self.stream is not None or bool(self.sinks)
+
+    def attach(self, executive: Any) -> None:
+        """Called by the Executive that owns this recorder: per-node statistics come from a
+        visitor on its tree, and sinks read its components (scans, costmaps, particles)."""
+        self._executive = executive
+        if not self.active:
+            return  # nothing kept: no visitor either, the unrecorded tick stays lean
+        nodes = [n for n, _ in walk(executive.tree.root)]
+        self.node_stats = NodeStatsVisitor(nodes, float(getattr(executive, "period", 0.0)))
+        executive.tree.visitors.append(self.node_stats)
 
     def start(self, root: py_trees.behaviour.Behaviour, meta: dict[str, Any]) -> None:
         """Write the header: node table and whatever the executive wants to keep (map, goals)."""
@@ -142,7 +230,10 @@ class Recorder:
             self._nodes.append(node)
             table.append([node.name, type(node).__name__, depth])
         self._last_status = [py_trees.common.Status.INVALID] * len(self._nodes)
-        self._write({"header": dict(meta, nodes=table)})
+        header = dict(meta, nodes=table)
+        self._write({"header": header})
+        for sink in self.sinks:
+            sink.start(header, self._executive)
 
     def node_index(self, node: py_trees.behaviour.Behaviour) -> int:
         for i, n in enumerate(self._nodes):
@@ -165,7 +256,7 @@ class Recorder:
         serialise, only the status bookkeeping is kept)."""
         status = self.status_changes()
         self.ticks += 1
-        if self.stream is None:
+        if self.stream is None and not self.sinks:
             return None
         line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status.name}
         if status:
@@ -180,10 +271,18 @@ class Recorder:
         if overrun_ms is not None:
             line["overrun_ms"] = round(overrun_ms, 3)
         self._write(line)
+        for sink in self.sinks:
+            sink.tick(line, self._executive)
         return line
 
     def footer(self, summary: dict[str, Any]) -> None:
+        if self.node_stats is not None:
+            summary = dict(summary, node_stats=self.node_stats.as_lists(),
+                           last_failure=self.node_stats.last_failure,
+                           last_failure_tick=self.node_stats.last_failure_tick)
         self._write({"footer": summary})
+        for sink in self.sinks:
+            sink.finish(summary)
 
     def _write(self, obj: dict[str, Any]) -> None:
         if self.stream is not None:

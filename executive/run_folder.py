@@ -15,7 +15,7 @@ from navcore.maps import OccupancyGrid
 
 from executive.draw_run import draw_run
 from executive.executive import Executive, MissionResult
-from executive.render import RenderError, render_tree
+from executive.render import NodeStats, RenderError, render_tree
 
 
 def open_log(run_dir: str | os.PathLike) -> TextIO:
@@ -41,7 +41,7 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     summary["goals"] = [list(g) for g in ex.trace.goals]
     summary.update(extra or {})
     try:
-        (d / "tree.svg").write_bytes(render_tree(ex.tree.root, "svg", with_status=True))
+        (d / "tree.svg").write_bytes(tree_picture(ex, summary.get("tree", ""), "svg"))
     except RenderError as e:
         summary["tree_svg_error"] = str(e)
     t = ex.trace
@@ -58,6 +58,19 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
              str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title)
     (d / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
+
+
+def tree_picture(ex: Executive, tree_path: str, fmt: str) -> bytes:
+    """The run's tree annotated with what each node did (ticks, results, time RUNNING), the
+    final statuses and the path to the last failed leaf."""
+    stats_visitor = ex.recorder.node_stats
+    stats = last = None
+    if stats_visitor is not None:
+        stats = [NodeStats(a, b, c, d) for a, b, c, d in stats_visitor.as_lists()]
+        last = stats_visitor.last_failure
+    title = os.path.splitext(os.path.basename(str(tree_path)))[0] or ex.tree.root.name
+    return render_tree(ex.tree.root, fmt, with_status=True, title=title, stats=stats,
+                       last_failure=last)
 
 
 def _distinct_paths(paths: list[tuple[float, list[list[float]]]], limit: int = 30

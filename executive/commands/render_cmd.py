@@ -1,4 +1,4 @@
-"""``mission render TREE [-f svg|png|dot|txt] [-o FILE]``: draw a tree."""
+"""``mission render TREE [-f svg|png|dot|txt] [-o FILE] [--ports] [--collapse NAME]``: draw a tree."""
 
 from __future__ import annotations
 
@@ -14,18 +14,31 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="output format (default txt)")
     p.add_argument("-o", "--output", help="output file (default: stdout for txt/dot, "
                                           "TREE.<format> for svg/png)")
+    p.add_argument("--ports", action="store_true",
+                   help="show each node's ports: constants that differ from the default and "
+                        "the blackboard keys it reads ({key}) and writes (-> {key})")
+    p.add_argument("--collapse", action="append", default=[], metavar="SUBTREE",
+                   help="draw this SubTree instance as one node (repeat; 'all' for every one)")
 
 
 def run(args: argparse.Namespace) -> int:
     import os
 
-    from executive.loading import TreeLoadError, load_tree_file
+    from executive import tree_loader
     from executive.render import RenderError, render_tree
+    from executive.tree_spec import TreeError
+    if not os.path.exists(args.tree):
+        return fail("render", f"{args.tree}: no such tree file")
+    collapse = ["*" if c == "all" else c for c in args.collapse]
     try:
-        tree = load_tree_file(args.tree, namespace="/render")
-        data = render_tree(tree.root, args.format)
-    except (TreeLoadError, RenderError) as e:
+        loaded = tree_loader.load_any(args.tree, namespace="/render")
+        data = render_tree(loaded.root, args.format, ports=args.ports, collapse=collapse,
+                           title=loaded.main_tree) if args.format != "txt" else \
+            render_tree(loaded.root, "txt")
+    except (TreeError, RenderError) as e:
         return fail("render", str(e))
+    except (OSError, UnicodeDecodeError) as e:
+        return fail("render", f"{args.tree}: cannot read tree ({e})")
     out = args.output
     if out is None and args.format in ("svg", "png"):
         out = os.path.splitext(os.path.basename(args.tree))[0] + "." + args.format
