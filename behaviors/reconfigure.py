@@ -6,11 +6,10 @@ from __future__ import annotations
 from typing import Any
 
 import py_trees
-import yaml
-
 from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, tick_child
 from behaviors.error_codes import BehaviorError
 from navcore.params import ParameterError
+from navcore.safe_read import parse_yaml
 
 Behaviour = py_trees.behaviour.Behaviour
 
@@ -22,7 +21,7 @@ def parse_values(text: str) -> dict[str, Any]:
         name, sep, value = item.partition(":") if ":" in item else item.partition("=")
         if not sep or not name.strip():
             raise ValueError(f"'{item}' is not 'name: value'")
-        out[name.strip()] = yaml.safe_load(value.strip())
+        out[name.strip()] = parse_yaml(value.strip(), f"value of '{name.strip()}'")
     return out
 
 

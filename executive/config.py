@@ -18,8 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import Any, Callable, Mapping
 
-import yaml
-
+from navcore.safe_read import load_yaml
 from navcore.params import Param, ParameterError, Parameters, suggest
 
 
@@ -319,15 +318,4 @@ def load_config(path: str | os.PathLike | None = None) -> RobotConfig:
 def read_config_doc(path: str | os.PathLike) -> Any:
     """The YAML document of a robot config file, not yet validated (ConfigError names the file
     and line when it cannot be read or parsed)."""
-    path = FsPath(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as e:
-        raise ConfigError(f"{path}: cannot read robot config ({e.strerror or e})") from None
-    try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = f":{mark.line + 1}" if mark is not None else ""
-        raise ConfigError(f"{path}{line}: not valid YAML ({getattr(e, 'problem', e)})") from None
-    return doc
+    return load_yaml(path, what="robot config", error=ConfigError)

@@ -15,9 +15,9 @@ from pathlib import Path as FsPath
 from typing import Any, Mapping
 
 import numpy as np
-import yaml
 
 from navcore.maps import MapError, OccupancyGrid, load_map
+from navcore.safe_read import load_yaml
 from navcore.params import suggest
 from navcore.types import Pose2D
 
@@ -299,15 +299,7 @@ def scenario_from_mapping(doc: Any, source: str) -> Scenario:
 def load_scenario(path: str | os.PathLike) -> Scenario:
     """Read and validate one scenario file."""
     path = str(path)
-    try:
-        with open(path, encoding="utf-8") as f:
-            doc = yaml.safe_load(f)
-    except OSError as e:
-        raise ScenarioError(f"{path}: cannot read scenario ({e.strerror or e})") from None
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = f":{mark.line + 1}" if mark is not None else ""
-        raise ScenarioError(f"{path}{line}: not valid YAML ({getattr(e, 'problem', e)})") from None
+    doc = load_yaml(path, what="scenario", error=ScenarioError)
     return scenario_from_mapping(doc, path)
 
 

@@ -22,6 +22,7 @@ import py_trees
 from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes
 from behaviors.reconfigure import parse_values
 from executive.tree_spec import KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, did_you_mean
+from navcore.safe_read import MAX_TREE_DEPTH, MAX_TREE_NODES
 from navcore.types import Pose2D
 
 SUBTREE = "SubTree"
@@ -133,6 +134,7 @@ class Builder:
         scope = Scope(prefix=self.namespace, root_ns=self.namespace)
         self._reads: list[tuple[NodeSpec, str, PortValue, str]] = []
         self._writes: set[str] = set()
+        self._count, self._depth = 0, 0
         root = self._tree(tree_id, scope, (), None)
         self._check_reads()
         return root
@@ -176,7 +178,13 @@ class Builder:
         cls = self.classes.get(spec.type)
         if cls is None:
             raise spec.error(f"unknown node type{did_you_mean(spec.type, [*self.classes, SUBTREE])}")
+        self._count += 1
+        if self._count > MAX_TREE_NODES or self._depth >= MAX_TREE_DEPTH:
+            raise spec.error(f"the tree (subtrees expanded) is larger than the limits of "
+                             f"{MAX_TREE_NODES} nodes and {MAX_TREE_DEPTH} levels")
+        self._depth += 1
         children = self._children(spec, cls, scope, stack)
+        self._depth -= 1
         refs, literals = self._ports(spec, cls, scope)
         kwargs: dict[str, Any] = {}
         if issubclass(cls, Control):
@@ -267,7 +275,7 @@ class Builder:
         info = cls.input_ports()[port]
         try:
             value = convert_literal(pv.raw, info.data_type, from_text)
-        except ValueError as e:
+        except (ValueError, TypeError, OverflowError) as e:
             want = str(e) if str(e) and not str(e).startswith(("could not", "invalid")) \
                 else getattr(info.data_type, "__name__", "?")
             raise spec.error(f"port '{port}' expects {want}, got {pv.raw!r}", pv.where) from None

@@ -18,6 +18,7 @@ from xml.sax.saxutils import quoteattr
 from behaviors.base import NavNode
 from behaviors.registry import category
 from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where
+from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, read_bytes
 from navcore.types import Pose2D
 
 # Attributes of Nav2's BtActionNode/BtServiceNode and friends that have no meaning here.
@@ -41,15 +42,15 @@ class _Elem:
 
 
 def _parse(file: str) -> _Elem:
-    try:
-        data = open(file, "rb").read()
-    except OSError as e:
-        raise TreeError(f"{file}:1: cannot read tree file: {e.strerror}") from None
+    data = read_bytes(file, what="tree file", error=TreeError)
     parser = expat.ParserCreate()
     stack: list[_Elem] = []
     root: list[_Elem] = []
 
     def start(tag: str, attrs: dict[str, str]) -> None:
+        if len(stack) >= MAX_XML_DEPTH:
+            raise TreeError(f"{file}:{parser.CurrentLineNumber}: elements nested more than "
+                            f"{MAX_XML_DEPTH} deep (limit)")
         el = _Elem(tag, dict(attrs), parser.CurrentLineNumber)
         (stack[-1].children if stack else root).append(el)
         stack.append(el)
@@ -57,12 +58,24 @@ def _parse(file: str) -> _Elem:
     def end(tag: str) -> None:
         stack.pop()
 
+    def no_entities(name: str, *_: Any) -> None:  # no entity can expand into a bomb
+        raise TreeError(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are not "
+                        f"allowed (entity '{name}')")
+
     parser.StartElementHandler = start
     parser.EndElementHandler = end
+    parser.EntityDeclHandler = no_entities
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     try:
         parser.Parse(data, True)
     except expat.ExpatError as e:
         raise TreeError(f"{file}:{e.lineno}: not valid XML: {expat.ErrorString(e.code)}") from None
+    except LookupError as e:  # encoding="..." naming no codec Python knows
+        raise TreeError(f"{file}:1: not valid XML: {e}") from None
+    except (ValueError, UnicodeError) as e:
+        raise TreeError(f"{file}:{parser.CurrentLineNumber}: not valid XML: {e}") from None
+    if not root:
+        raise TreeError(f"{file}:1: not valid XML: no element")
     return root[0]
 
 
@@ -94,6 +107,9 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     if real in _stack:
         raise TreeError(f"{file}:1: include cycle: "
                         + " -> ".join(os.path.basename(s) for s in (*_stack, real)))
+    if len(_stack) >= MAX_INCLUDE_DEPTH:
+        raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
+                        f"(limit)")
     root = _parse(file)
     if root.tag != "root":
         raise TreeError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")

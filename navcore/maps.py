@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import yaml
 
+from navcore.safe_read import MAX_IMAGE_BYTES, load_yaml, read_bytes
 from navcore.types import Pose2D
 
 UNKNOWN = -1
@@ -21,6 +22,13 @@ FREE = 0
 OCCUPIED = 100
 
 _MODES = ("trinary", "scale", "raw")
+
+# Limits (docs/limits.md): a map of more cells than this is refused before its pixels are decoded
+# (4096 x 4096; a PNG of a few kB can claim 2**31 x 2**31 pixels).
+MAX_MAP_CELLS = 4096 * 4096
+MIN_RESOLUTION = 1e-4   # m per cell
+MAX_RESOLUTION = 1e3
+MAX_ORIGIN = 1e7        # |origin x, y| in m
 
 
 class MapError(ValueError):
@@ -84,11 +92,7 @@ class OccupancyGrid:
 
 def read_pnm(path: str) -> np.ndarray:
     """Read a P5 (binary) or P2 (ASCII) greymap into a (rows, cols) float64 array scaled to 0..255."""
-    try:
-        with open(path, "rb") as f:
-            raw = f.read()
-    except OSError as e:
-        raise MapError(f"{path}: cannot read image: {e.strerror}") from None
+    raw = read_bytes(path, limit=MAX_IMAGE_BYTES, what="image", error=MapError)
     magic = raw[:2]
     if magic not in (b"P5", b"P2"):
         raise MapError(f"{path}: bad header: expected PGM magic 'P5' or 'P2', got {magic!r}")
@@ -115,6 +119,7 @@ def read_pnm(path: str) -> np.ndarray:
         raise MapError(f"{path}: bad header: width/height/maxval not integers: {tokens!r}") from None
     if width <= 0 or height <= 0 or not 0 < maxval < 65536:
         raise MapError(f"{path}: bad header: width={width} height={height} maxval={maxval}")
+    _check_cells(path, width, height)
     if magic == b"P5":
         i += 1  # exactly one whitespace byte ends the header
         dtype = np.uint8 if maxval < 256 else np.dtype(">u2")
@@ -139,28 +144,70 @@ def read_pnm(path: str) -> np.ndarray:
     return pix
 
 
+def _check_cells(path: str, width: int, height: int) -> None:
+    if width * height > MAX_MAP_CELLS:
+        raise MapError(f"{path}: image of {width} x {height} pixels is larger than the limit of "
+                       f"{MAX_MAP_CELLS} cells")
+
+
+def _channels(path: str, data: bytes) -> tuple[np.ndarray, bool]:
+    """The pixels of a PNG (or other Pillow format) as map_server's SDL_image surface holds them.
+
+    SDL_image strips 16-bit samples to their high byte, expands grey of 1/2/4 bits to 0..255,
+    turns grey+alpha into RGBA, keeps a palette image as its indices (map_server reads the index
+    byte) unless several palette entries are translucent (then RGBA). Returns an array
+    (rows, cols, channels) of uint8 and whether the last channel is alpha.
+    """
+    import io
+    import warnings
+    from PIL import Image
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            img = Image.open(io.BytesIO(data))
+            _check_cells(path, img.width, img.height)
+            img.load()
+    except MapError:
+        raise
+    except Exception as e:  # Pillow raises many types for a broken file
+        raise MapError(f"{path}: cannot decode image: {e}") from None
+    mode = img.mode
+    if mode in ("I;16", "I;16B", "I;16L", "I"):
+        # 16-bit grey: the high byte, as png_set_strip_16 gives it.
+        arr = (np.asarray(img, dtype=np.uint32) >> 8).astype(np.uint8)
+        return arr[:, :, None], False
+    if mode == "P":
+        trans = img.info.get("transparency")
+        if not isinstance(trans, bytes):
+            return np.asarray(img, dtype=np.uint8)[:, :, None], False
+        img, mode = img.convert("RGBA"), "RGBA"
+    if mode in ("1", "L"):
+        return np.asarray(img.convert("L"), dtype=np.uint8)[:, :, None], False
+    if mode == "LA":
+        g, a = np.asarray(img, dtype=np.uint8).transpose(2, 0, 1)
+        return np.stack([g, g, g, a], axis=2), True
+    if mode == "RGB":
+        return np.asarray(img, dtype=np.uint8), False
+    if mode != "RGBA":
+        img = img.convert("RGBA")
+    return np.asarray(img, dtype=np.uint8), True
+
+
 def _read_image(path: str, mode: str) -> tuple[np.ndarray, np.ndarray | None]:
     """Grey average and alpha channel (or None) of an image file, as map_server computes them."""
     if path.lower().endswith((".pgm", ".pnm")):
         return read_pnm(path), None
-    try:
-        from PIL import Image
-        img = Image.open(path)
-        img.load()
-    except FileNotFoundError:
-        raise MapError(f"{path}: image file not found") from None
-    except Exception as e:  # Pillow raises many types for a broken file
-        raise MapError(f"{path}: cannot decode image: {e}") from None
-    arr = np.asarray(img.convert("RGBA") if img.mode not in ("L", "LA", "RGB", "RGBA")
-                     else img, dtype=np.float64)
-    if arr.ndim == 2:
-        return arr, None
-    has_alpha = img.mode in ("LA", "RGBA") or arr.shape[2] in (2, 4)
-    colour = arr[:, :, :-1] if has_alpha else arr
+    arr, has_alpha = _channels(path, read_bytes(path, limit=MAX_IMAGE_BYTES, what="image",
+                                                error=MapError))
+    n = arr.shape[2]
     alpha = arr[:, :, -1] if has_alpha else None
-    # map_server: alpha takes part in the average only in trinary mode.
-    avg = arr.mean(axis=2) if (has_alpha and mode == "trinary") else colour.mean(axis=2)
-    return avg, alpha
+    # map_server averages every channel in trinary mode or without alpha, else all but alpha;
+    # the sum is an integer, divided as a double.
+    k = n if (mode == "trinary" or not has_alpha) else n - 1
+    if k == 1:
+        return arr[:, :, 0].astype(np.float64), alpha
+    total = arr[:, :, :k].sum(axis=2, dtype=np.uint16)
+    return total / float(k), alpha
 
 
 def image_to_grid(avg: np.ndarray, alpha: np.ndarray | None, mode: str, negate: bool,
@@ -195,11 +242,14 @@ def _field(meta: dict, key: str, path: str, kind, default=None, required: bool =
     value = meta[key]
     try:
         if kind is float:
-            if isinstance(value, bool):
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
                 raise TypeError
-            return float(value)
+            number = float(value)  # a string too, as yaml-cpp's as<double>() reads "1e-3"
+            if not math.isfinite(number):
+                raise MapError(f"{path}: field '{key}' must be a finite number, got {value!r}")
+            return number
         if kind is bool:
-            if isinstance(value, bool) or value in (0, 1):
+            if isinstance(value, bool) or (isinstance(value, (int, float)) and value in (0, 1)):
                 return bool(value)
             raise TypeError
         if kind is str:
@@ -218,26 +268,22 @@ def load_map(yaml_path: str | os.PathLike) -> OccupancyGrid:
     the file of that name beside the YAML.
     """
     path = os.fspath(yaml_path)
-    try:
-        with open(path, encoding="utf-8") as f:
-            meta = yaml.safe_load(f)
-    except FileNotFoundError:
-        raise MapError(f"{path}: map file not found") from None
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        where = f":{mark.line + 1}" if mark is not None else ""
-        raise MapError(f"{path}{where}: not valid YAML: {getattr(e, 'problem', e)}") from None
+    meta = load_yaml(path, what="map file", error=MapError)
     if not isinstance(meta, dict):
         raise MapError(f"{path}: expected a mapping of map fields, got {type(meta).__name__}")
 
     image = _field(meta, "image", path, str)
     resolution = _field(meta, "resolution", path, float)
-    if not resolution > 0:
-        raise MapError(f"{path}: field 'resolution' must be > 0, got {resolution}")
+    if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
+        raise MapError(f"{path}: field 'resolution' must be in [{MIN_RESOLUTION}, "
+                       f"{MAX_RESOLUTION}] m, got {resolution}")
     origin = meta.get("origin")
     if (not isinstance(origin, (list, tuple)) or len(origin) != 3
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in origin)):
         raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {origin!r}")
+    if not all(math.isfinite(float(v)) for v in origin) or max(map(abs, origin[:2])) > MAX_ORIGIN:
+        raise MapError(f"{path}: field 'origin' must be finite with |x|, |y| <= {MAX_ORIGIN:g} m, "
+                       f"got {origin!r}")
     negate = _field(meta, "negate", path, bool)
     occ_th = _field(meta, "occupied_thresh", path, float)
     free_th = _field(meta, "free_thresh", path, float)

@@ -1,0 +1,251 @@
+"""One reading path for every file a user gives: bounded, decoded, safely parsed.
+
+Trees (YAML and XML), robot configs, map descriptors and images, scenarios and ``SetParameters``
+values all come through here, so one set of limits holds everywhere (docs/limits.md):
+
+- only regular files are read (``/dev/zero``, FIFOs, directories are refused) and at most
+  ``MAX_TEXT_BYTES`` (text) or ``MAX_IMAGE_BYTES`` (map images);
+- text is strict UTF-8 (a BOM is dropped) without control characters other than tab, CR, LF;
+- YAML is composed with the safe loader only, nesting at most ``MAX_YAML_DEPTH`` deep, aliases
+  must point at finished nodes (no self reference) and the document expanded through its aliases
+  holds at most ``MAX_YAML_NODES`` nodes (no alias bomb);
+- integers beyond 64 bits and malformed tagged scalars (``!!float x``) are refused where written.
+
+Every failure raises the caller's error type (``error=``) with ``file:line: what``; nothing else
+escapes. navcore imports nothing of ours, so this lives here for ``navcore.maps`` and above.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from typing import Any, Callable
+
+import yaml
+from yaml.constructor import ConstructorError, SafeConstructor
+from yaml.events import (AliasEvent, CollectionEndEvent, CollectionStartEvent, DocumentStartEvent,
+                         ScalarEvent)
+
+MAX_TEXT_BYTES = 4 * 1024 * 1024      # a tree, config, scenario or map descriptor
+MAX_IMAGE_BYTES = 128 * 1024 * 1024   # a map image (PGM/PNG)
+MAX_YAML_DEPTH = 100                  # nested mappings/sequences
+MAX_YAML_NODES = 200_000              # nodes of a document with every alias expanded
+MAX_INT = 2 ** 63                     # |integer| a YAML file may hold
+MAX_XML_DEPTH = 100                   # nested XML elements
+MAX_INCLUDE_DEPTH = 16                # files including files (trees)
+MAX_TREE_NODES = 10_000               # behaviours of a built tree, subtrees expanded
+MAX_TREE_DEPTH = 64                   # nesting of a built tree, subtrees expanded
+
+# libyaml's parser and composer when present (about 10x faster); same events, marks and safety.
+_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+_CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ufffe\uffff]")
+
+
+class ReadError(ValueError):
+    """A user file cannot be read; used when the caller names no error type of its own."""
+
+
+ErrorType = Callable[[str], Exception]
+
+
+def read_bytes(path: str | os.PathLike, *, limit: int = MAX_TEXT_BYTES, what: str = "file",
+               error: ErrorType = ReadError) -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes (never blocks on a FIFO)."""
+    file = os.fspath(path)
+    try:
+        fd = os.open(file, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise error(f"{file}: cannot read {what}: not found") from None
+    except OSError as e:
+        raise error(f"{file}: cannot read {what}: {e.strerror or e}") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise error(f"{file}: cannot read {what}: not a regular file")
+        if st.st_size > limit:
+            raise error(f"{file}: {what} is {st.st_size} bytes, more than the limit of {limit}")
+        with os.fdopen(fd, "rb", closefd=False) as f:
+            data = f.read(limit + 1)
+    except OSError as e:
+        raise error(f"{file}: cannot read {what}: {e.strerror or e}") from None
+    finally:
+        os.close(fd)
+    if len(data) > limit:  # grew while reading
+        raise error(f"{file}: {what} is more than the limit of {limit} bytes")
+    return data
+
+
+def decode_text(data: bytes, file: str, *, what: str = "file", error: ErrorType = ReadError
+                ) -> str:
+    """Strict UTF-8 text without control characters; errors name the line and column."""
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = data.count(b"\n", 0, e.start) + 1
+        raise error(f"{file}:{line}: {what} is not UTF-8 text (byte 0x{data[e.start]:02x})"
+                    ) from None
+    check_characters(text, file, error=error)
+    return text
+
+
+def check_characters(text: str, file: str, *, error: ErrorType = ReadError) -> None:
+    """Refuse control characters (other than tab, CR, LF), naming line and column."""
+    m = _CONTROL.search(text)
+    if m is not None:
+        line = text.count("\n", 0, m.start()) + 1
+        col = m.start() - (text.rfind("\n", 0, m.start()) + 1) + 1
+        raise error(f"{file}:{line}: control character U+{ord(m.group()):04X} at column {col}")
+
+
+def read_text(path: str | os.PathLike, *, what: str = "file", error: ErrorType = ReadError,
+              limit: int = MAX_TEXT_BYTES) -> str:
+    """``read_bytes`` then ``decode_text``."""
+    return decode_text(read_bytes(path, limit=limit, what=what, error=error), os.fspath(path),
+                       what=what, error=error)
+
+
+def _yaml_error(e: yaml.YAMLError, file: str, error: ErrorType) -> Exception:
+    mark = getattr(e, "problem_mark", None) or getattr(e, "context_mark", None)
+    line = mark.line + 1 if mark is not None else 1
+    problem = getattr(e, "problem", None) or str(e)
+    if isinstance(e, _BadValue):  # a well-formed scalar whose value we refuse
+        return error(f"{file}:{line}: bad value: {problem}")
+    return error(f"{file}:{line}: not valid YAML: {problem}")
+
+
+def _check_events(text: str, file: str, error: ErrorType, max_depth: int, max_nodes: int) -> None:
+    """Refuse deep nesting, self-referencing aliases and alias bombs before composing."""
+    check_characters(text, file, error=error)
+    stack: list[list[Any]] = []      # open collections: [anchor, expanded node count]
+    sizes: dict[str, int] = {}       # finished anchors -> expanded node count
+    total = 0
+
+    def add(n: int, line: int) -> None:
+        nonlocal total
+        total += n
+        if total > max_nodes:
+            raise error(f"{file}:{line}: the document expands to more than {max_nodes} nodes "
+                        f"through its aliases (limit)")
+        if stack:
+            stack[-1][1] += n
+
+    for ev in yaml.parse(text, Loader=_LOADER):
+        line = ev.start_mark.line + 1 if ev.start_mark is not None else 1
+        if isinstance(ev, DocumentStartEvent):
+            stack.clear()
+        elif isinstance(ev, CollectionStartEvent):
+            if len(stack) >= max_depth:
+                raise error(f"{file}:{line}: nested more than {max_depth} levels deep (limit)")
+            stack.append([ev.anchor, 0])
+        elif isinstance(ev, CollectionEndEvent):
+            anchor, n = stack.pop()
+            if anchor is not None:
+                sizes[anchor] = n + 1
+            if stack:
+                stack[-1][1] += n
+            add(1, line)
+        elif isinstance(ev, ScalarEvent):
+            if ev.anchor is not None:
+                sizes[ev.anchor] = 1
+            add(1, line)
+        elif isinstance(ev, AliasEvent):
+            if ev.anchor not in sizes:
+                if any(a == ev.anchor for a, _ in stack):
+                    raise error(f"{file}:{line}: alias *{ev.anchor} refers to a node that "
+                                f"contains it")
+                raise error(f"{file}:{line}: alias *{ev.anchor} names no anchor before it")
+            add(sizes[ev.anchor], line)
+
+
+def compose_yaml(text: str, file: str, *, error: ErrorType = ReadError,
+                 max_depth: int = MAX_YAML_DEPTH, max_nodes: int = MAX_YAML_NODES
+                 ) -> yaml.Node | None:
+    """The YAML node graph of ``text`` (one document; None when empty), within the limits."""
+    try:
+        _check_events(text, file, error, max_depth, max_nodes)
+        return yaml.compose(text, Loader=_LOADER)
+    except yaml.YAMLError as e:
+        raise _yaml_error(e, file, error) from None
+    except RecursionError:
+        raise error(f"{file}:1: nested too deeply") from None
+
+
+class _BadValue(ConstructorError):
+    """A scalar that parses as YAML but holds a value out of range or malformed for its tag."""
+
+
+class _Constructor(SafeConstructor):
+    """The safe constructor, refusing integers beyond 64 bits and malformed typed scalars."""
+
+    def construct_yaml_int(self, node: yaml.ScalarNode) -> int:
+        digits = str(node.value).replace("_", "").lstrip("+-")
+        if len(digits) > 70:  # any base; int() itself refuses > 4300 digits with ValueError
+            raise _BadValue(None, None, f"integer of {len(digits)} digits is out of range",
+                                   node.start_mark)
+        try:
+            value = super().construct_yaml_int(node)
+        except ValueError:
+            raise _BadValue(None, None, f"{node.value!r} is not an integer",
+                                   node.start_mark) from None
+        if abs(value) >= MAX_INT:
+            raise _BadValue(None, None, f"integer {node.value} is out of range "
+                                   f"(|n| < 2**63)", node.start_mark)
+        return value
+
+    def construct_yaml_float(self, node: yaml.ScalarNode) -> float:
+        try:
+            return super().construct_yaml_float(node)
+        except (ValueError, OverflowError):
+            raise _BadValue(None, None, f"{node.value!r} is not a number",
+                                   node.start_mark) from None
+
+    def construct_yaml_timestamp(self, node: yaml.ScalarNode) -> Any:
+        try:
+            return super().construct_yaml_timestamp(node)
+        except (ValueError, OverflowError, TypeError):
+            raise _BadValue(None, None, f"{node.value!r} is not a timestamp",
+                                   node.start_mark) from None
+
+    def construct_yaml_binary(self, node: yaml.ScalarNode) -> bytes:
+        try:
+            return super().construct_yaml_binary(node)
+        except (ValueError, TypeError):
+            raise _BadValue(None, None, "bad !!binary data", node.start_mark) from None
+
+
+for _tag, _name in (("int", "construct_yaml_int"), ("float", "construct_yaml_float"),
+                    ("timestamp", "construct_yaml_timestamp"), ("binary", "construct_yaml_binary")):
+    _Constructor.add_constructor(f"tag:yaml.org,2002:{_tag}", getattr(_Constructor, _name))
+
+
+def node_value(node: yaml.Node, file: str, *, error: ErrorType = ReadError) -> Any:
+    """Plain Python data of a composed node (safe types only), errors at the node's line."""
+    try:
+        return _Constructor().construct_document(node)
+    except yaml.YAMLError as e:
+        raise _yaml_error(e, file, error) from None
+    except (ValueError, TypeError, OverflowError) as e:  # a hashable key that is not, etc.
+        raise error(f"{file}:{node.start_mark.line + 1}: bad YAML value: {e}") from None
+    except RecursionError:
+        raise error(f"{file}:{node.start_mark.line + 1}: nested too deeply") from None
+
+
+def parse_yaml(text: str, file: str, *, error: ErrorType = ReadError) -> Any:
+    """Plain data of a YAML text (None when empty), within the limits."""
+    node = compose_yaml(text, file, error=error)
+    return None if node is None else node_value(node, file, error=error)
+
+
+def load_yaml(path: str | os.PathLike, *, what: str = "file", error: ErrorType = ReadError,
+              limit: int = MAX_TEXT_BYTES) -> Any:
+    """Read, decode and parse a YAML file: the one way user YAML files are loaded."""
+    file = os.fspath(path)
+    return parse_yaml(read_text(file, what=what, error=error, limit=limit), file, error=error)
+
+
+def line_of(node: yaml.Node | None) -> int:
+    """1-based line of a composed node (1 when unknown)."""
+    return node.start_mark.line + 1 if node is not None and node.start_mark is not None else 1

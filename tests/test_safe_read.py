@@ -1,0 +1,156 @@
+"""The one reading path for user files: every bad input becomes the caller's error with file:line."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from executive.config import ConfigError, load_config
+from executive.loading import TreeLoadError, load_tree_file
+from executive.scenario import ScenarioError, load_scenario
+from navcore.maps import MapError, load_map
+from navcore.safe_read import (MAX_TEXT_BYTES, MAX_YAML_DEPTH, ReadError, load_yaml, parse_yaml,
+                               read_bytes)
+
+
+def _bomb(levels: int = 6) -> str:
+    lines = ["a0: &a0 [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]"]
+    for i in range(1, levels):
+        lines.append(f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]")
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("text,line,needle", [
+    ("a: 1\nb: [1, \x00]\n", 2, "control character U+0000"),
+    ("a: 1\n\nb: " + "9" * 400 + "\n", 3, "400 digits"),
+    ("a: " + str(2 ** 63) + "\n", 1, "out of range"),
+    ("x: !!float x\n", 1, "'x' is not a number"),
+    ("x: !!int 1.5\n", 1, "not an integer"),
+    ("a: &a [1, *a]\n", 1, "refers to a node that contains it"),
+    ("a: *nowhere\n", 1, "names no anchor"),
+    (_bomb(), 6, "more than 200000 nodes"),
+    ("b: 1\na: " + "[" * (MAX_YAML_DEPTH + 1) + "]" * (MAX_YAML_DEPTH + 1) + "\n", 2,
+     "nested more than"),
+    ("x: !!python/object/apply:os.system [true]\n", 1, "not valid YAML"),
+    ("a: [1, 2\n", 2, "not valid YAML"),
+])
+def test_bad_yaml_text_names_line_and_problem(text: str, line: int, needle: str) -> None:
+    with pytest.raises(ReadError) as e:
+        parse_yaml(text, "f.yaml")
+    assert str(e.value).startswith(f"f.yaml:{line}: ") and needle in str(e.value)
+
+
+def test_good_yaml_with_aliases_reads_as_plain_data() -> None:
+    assert parse_yaml("a: &x {b: 1}\nc: *x\nd: 0x10\n", "f.yaml") == {
+        "a": {"b": 1}, "c": {"b": 1}, "d": 16}
+    assert parse_yaml("", "f.yaml") is None
+
+
+def test_utf8_decode_error_names_line(tmp_path: Path) -> None:
+    p = tmp_path / "t.yaml"
+    p.write_bytes(b"a: 1\nb: caf\xe9\n")
+    with pytest.raises(ReadError, match=r"t.yaml:2: file is not UTF-8 text \(byte 0xe9\)"):
+        load_yaml(p)
+    p.write_bytes(b"\xef\xbb\xbfa: 1\n")  # a UTF-8 byte order mark is fine
+    assert load_yaml(p) == {"a": 1}
+
+
+@pytest.mark.parametrize("path", ["/dev/zero", "/dev/urandom", "/tmp"])
+def test_non_regular_files_are_refused_without_reading(path: str) -> None:
+    if not os.path.exists(path):
+        pytest.skip(f"{path} does not exist here")
+    with pytest.raises(ReadError, match="not a regular file"):
+        read_bytes(path)
+
+
+def test_fifo_is_refused_without_blocking(tmp_path: Path) -> None:
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    with pytest.raises(ReadError, match="not a regular file"):
+        read_bytes(fifo)
+
+
+def test_size_limit(tmp_path: Path) -> None:
+    p = tmp_path / "big.yaml"
+    p.write_bytes(b"#" * (MAX_TEXT_BYTES + 1))
+    with pytest.raises(ReadError, match="more than the limit"):
+        read_bytes(p)
+    assert read_bytes(p, limit=MAX_TEXT_BYTES + 1)[:1] == b"#"
+
+
+def test_each_layer_raises_its_own_error_with_the_file(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("a: &a [1, *a]\n")
+    with pytest.raises(ConfigError, match=r"bad.yaml:1: alias"):
+        load_config(bad)
+    with pytest.raises(ScenarioError, match=r"bad.yaml:1: alias"):
+        load_scenario(bad)
+    with pytest.raises(MapError, match=r"bad.yaml:1: alias"):
+        load_map(bad)
+    with pytest.raises(TreeLoadError, match=r"bad.yaml:1: alias"):
+        load_tree_file(bad)
+
+
+def _tree(body: str) -> str:
+    return f"trees:\n  T:\n{body}"
+
+
+def test_tree_include_of_a_device_is_refused(tmp_path: Path) -> None:
+    p = tmp_path / "t.yaml"
+    p.write_text("include: [/dev/zero]\n" + _tree("    Wait: {wait_duration: 1.0}\n"))
+    with pytest.raises(TreeLoadError, match="not a regular file"):
+        load_tree_file(p)
+
+
+def test_deep_yaml_tree_is_a_clean_error(tmp_path: Path) -> None:
+    depth = 400
+    body = "".join("  " * (i + 2) + "Inverter:\n" + "  " * (i + 3) + "child:\n"
+                   for i in range(0, 2 * depth, 2))
+    p = tmp_path / "deep.yaml"
+    p.write_text(_tree(body + "  " * (2 * depth + 2) + "AlwaysSuccess: {}\n"))
+    with pytest.raises(TreeLoadError, match="deep.yaml:\\d+: nested more than"):
+        load_tree_file(p)
+
+
+def test_deep_tree_under_yaml_limit_hits_the_tree_depth_limit(tmp_path: Path) -> None:
+    # B nests 45 Inverters then a SubTree to C holding 45 more: 91 levels expanded
+    b = "".join("  " * (i + 2) + "Inverter:\n" + "  " * (i + 3) + "child:\n"
+                for i in range(0, 90, 2)) + "  " * 92 + "SubTree: {id: C}\n"
+    c = "".join("  " * (i + 2) + "Inverter:\n" + "  " * (i + 3) + "child:\n"
+                for i in range(0, 90, 2)) + "  " * 92 + "AlwaysSuccess: {}\n"
+    text = ("main_tree: B\ntrees:\n  B:\n" + b + "  C:\n" + c)
+    p = tmp_path / "sub.yaml"
+    p.write_text(text)
+    with pytest.raises(TreeLoadError, match="larger than the limits"):
+        load_tree_file(p)
+
+
+def test_deep_xml_is_a_clean_error(tmp_path: Path) -> None:
+    p = tmp_path / "deep.xml"
+    p.write_text('<root main_tree_to_execute="T"><BehaviorTree ID="T">' + "<Inverter>" * 400
+                 + "<AlwaysSuccess/>" + "</Inverter>" * 400 + "</BehaviorTree></root>")
+    with pytest.raises(TreeLoadError, match="deep.xml:1: elements nested more than"):
+        load_tree_file(p)
+
+
+@pytest.mark.parametrize("head,needle", [
+    ('<?xml version="1.0" encoding="klingon"?>', "not valid XML"),
+    ('<?xml version="1.0"?><!DOCTYPE r [<!ENTITY a "aaaa">]>', "entity declarations"),
+])
+def test_xml_encoding_and_entities_are_clean_errors(tmp_path: Path, head: str, needle: str
+                                                    ) -> None:
+    p = tmp_path / "t.xml"
+    p.write_text(head + '<root><BehaviorTree ID="T"><AlwaysSuccess/></BehaviorTree></root>')
+    with pytest.raises(TreeLoadError, match=needle):
+        load_tree_file(p)
+
+
+def test_set_parameters_alias_bomb_is_refused(tmp_path: Path) -> None:
+    p = tmp_path / "t.yaml"
+    p.write_text(_bomb(6).replace("a5: &a5", "x: &a5") + _tree(
+        "    SetParameters:\n      namespace: DWAPlannerROS\n      values: {x: *a5}\n"
+        "      child: {AlwaysSuccess: {}}\n"))
+    with pytest.raises(TreeLoadError, match="more than 200000 nodes"):
+        load_tree_file(p)
