@@ -284,6 +284,15 @@ class Recorder:
         for sink in self.sinks:
             sink.finish(summary)
 
+    def close(self) -> None:
+        """Close the log stream and every sink that holds a file or a server."""
+        if self.stream is not None:
+            self.stream.close()
+        for sink in self.sinks:
+            close = getattr(sink, "close", None)
+            if close is not None:
+                close()
+
     def _write(self, obj: dict[str, Any]) -> None:
         if self.stream is not None:
             self.stream.write(json.dumps(obj, separators=(",", ":")) + "\n")

@@ -1,7 +1,8 @@
 """The run folder: ``tree.svg``, ``ticks.jsonl``, ``run.png`` and ``summary.json``.
 
-``ticks.jsonl`` is streamed by the Recorder while the mission runs (``open_log``); the rest is
-written once at the end (``finish``) from the Executive's in-memory trace.
+``ticks.jsonl`` is streamed by the Recorder while the mission runs (``open_recorder``, or
+``open_log`` for the tick log alone); the rest is written once at the end (``finish``) from the
+Executive's in-memory trace and the recorder's ``RunCapture`` (costmaps, scans, time series).
 """
 
 from __future__ import annotations
@@ -13,8 +14,10 @@ from typing import Any, Sequence, TextIO
 
 from navcore.maps import OccupancyGrid
 
+from executive.capture import RunCapture
 from executive.draw_run import draw_run
 from executive.executive import Executive, MissionResult
+from executive.recorder import Recorder
 from executive.render import NodeStats, RenderError, render_tree
 
 
@@ -23,6 +26,20 @@ def open_log(run_dir: str | os.PathLike) -> TextIO:
     d = FsPath(run_dir)
     d.mkdir(parents=True, exist_ok=True)
     return open(d / "ticks.jsonl", "w", encoding="utf-8")
+
+
+def open_recorder(run_dir: str | os.PathLike) -> Recorder:
+    """A Recorder writing ``run_dir/ticks.jsonl`` and capturing what the pictures need
+    (close it with ``recorder.close()``)."""
+    return Recorder(open_log(run_dir), sinks=[RunCapture()])
+
+
+def capture_of(ex: Executive) -> RunCapture | None:
+    """The RunCapture among the executive's recorder sinks, if any."""
+    for sink in ex.recorder.sinks:
+        if isinstance(sink, RunCapture):
+            return sink
+    return None
 
 
 def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
@@ -55,7 +72,8 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     paths = _distinct_paths(t.paths)
     title = f"{summary.get('name', '')} {result.outcome} in {result.sim_time:.1f} s".strip()
     draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
-             str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title)
+             str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title,
+             capture=capture_of(ex))
     (d / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 

@@ -391,13 +391,13 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     except ConfigError as e:
         raise ScenarioError(str(e)) from None
     world = World(scenario.objects, scenario.moving, scenario.phantoms, scenario.faults)
-    log = None
+    recorder = Recorder(None)
     if record_dir is not None:
-        from executive.run_folder import open_log
-        log = open_log(record_dir)
+        from executive.run_folder import open_recorder
+        recorder = open_recorder(record_dir)
     try:
         mission = build_mission(tree_path, config, scenario.grid, scenario.start, world=world,
-                                seed=scenario.seed, recorder=Recorder(log),
+                                seed=scenario.seed, recorder=recorder,
                                 meta={"scenario": scenario.name}, hardware=hardware)
         result = run_mission(mission, scenario.goals, scenario.time_limit, on_tick=on_tick)
         if record_dir is not None:
@@ -411,8 +411,7 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
         if hasattr(mission.executive.io, "close"):
             mission.executive.io.close()      # drivers and emulators of hardware="emulated"
     finally:
-        if log is not None:
-            log.close()
+        recorder.close()
     e = scenario.expectation_for(tree_name)
     failures = check_expectation(e, result.outcome, result.sim_time, fired_types,
                                  result.collisions)
