@@ -15,13 +15,15 @@ mission-level key. Ports left unwired that have a well-known default key (``goal
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Iterable
 
 import py_trees
 
 from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes
 from behaviors.reconfigure import parse_values
-from executive.tree_spec import KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, did_you_mean
+from executive import nav2_model
+from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors,
+                                  did_you_mean)
 from navcore.safe_read import MAX_TREE_DEPTH, MAX_TREE_NODES
 from navcore.types import Pose2D
 
@@ -121,22 +123,58 @@ def _scalar(text: str) -> Any:
     return text
 
 
+def unknown_type_message(node_type: str, known: Iterable[str]) -> str:
+    """What to say about a node type navbt does not have: a Nav2 or BT.CPP node says so (a
+    close navbt name would have other semantics); anything else gets a close match."""
+    distros = nav2_model.distros_of(node_type)
+    if distros:
+        reason = nav2_model.NOT_PROVIDED.get(node_type)
+        return (f"a Nav2 node ({', '.join(distros)}) that navbt does not provide"
+                + (f": {reason}" if reason else ""))
+    if node_type in nav2_model.BTCPP_BUILTINS:
+        return "a BehaviorTree.CPP 4 built-in that navbt does not provide"
+    if node_type in ("Action", "Condition", "Control", "Decorator"):
+        return f"<{node_type}> needs an ID attribute naming the node type"
+    return f"unknown node type{did_you_mean(node_type, known)}"
+
+
+def costmap_of_service(service: str) -> str | None:
+    """Which costmap a Nav2 clear-costmap ``service_name`` addresses: local, global or None."""
+    local, glob = "local" in service, "global" in service
+    return "local" if local and not glob else "global" if glob and not local else None
+
+
+class _Invalid(py_trees.behaviours.Success):
+    """Stands in for a node that failed validation so that the rest can still be checked."""
+
+
 @dataclass
 class Builder:
+    """Validates and builds a ``TreeDoc``. Every problem is collected; ``build`` raises one
+    ``TreeErrors`` listing them all. Ports Nav2 defines for a node type that have no meaning
+    here (server plumbing) are accepted and listed in ``ignored``, never dropped silently."""
+
     doc: TreeDoc
     namespace: str
     from_text: bool = False  # XML: literals are strings to convert
     ignored_ports: frozenset[str] = frozenset()
     classes: dict[str, type[NavNode]] = field(default_factory=node_classes)
+    distro: str | None = None  # the Nav2 distribution whose semantics apply; None: navbt's
+    errors: list[TreeError] = field(default_factory=list)
+    ignored: list[str] = field(default_factory=list)
 
     def build(self, tree_id: str | None = None) -> py_trees.behaviour.Behaviour:
         tree_id = tree_id or self.main_tree()
         scope = Scope(prefix=self.namespace, root_ns=self.namespace)
+        self._visited: set[str] = set()
         self._reads: list[tuple[NodeSpec, str, PortValue, str]] = []
         self._writes: set[str] = set()
         self._count, self._depth = 0, 0
         root = self._tree(tree_id, scope, (), None)
         self._check_reads()
+        self._check_unused()
+        if self.errors:
+            raise TreeErrors(self.errors)
         return root
 
     def _check_reads(self) -> None:
@@ -149,18 +187,26 @@ class Builder:
                 continue
             hint = did_you_mean(name, known)
             if hint:
-                raise spec.error(f"port '{port}' reads {pv.raw!r}, which nothing in the tree "
-                                 f"writes{hint}", pv.where)
+                self.errors.append(spec.error(f"port '{port}' reads {pv.raw!r}, which nothing in "
+                                              f"the tree writes{hint}", pv.where))
+
+    def _check_unused(self) -> None:
+        """Trees that the main tree never reaches are still checked (validate reports them)."""
+        for tid in list(self.doc.trees):
+            if tid not in self._visited:
+                scope = Scope(prefix=namespaced(self.namespace, tid), root_ns=self.namespace)
+                self._tree(tid, scope, (), None)
 
     def main_tree(self) -> str:
         doc = self.doc
+        key = doc.main_key
         if doc.main_tree is None:
             if len(doc.trees) == 1:
                 return next(iter(doc.trees))
             raise TreeError(f"{doc.source}:1: several trees ({', '.join(doc.trees)}) and no "
-                            f"'main_tree' saying which one runs")
+                            f"'{key}' saying which one runs")
         if doc.main_tree not in doc.trees:
-            raise TreeError(f"{doc.source}:1: main_tree '{doc.main_tree}' is not defined"
+            raise TreeError(f"{doc.source}:1: {key} '{doc.main_tree}' is not defined"
                             f"{did_you_mean(doc.main_tree, doc.trees)}")
         return doc.main_tree
 
@@ -169,7 +215,9 @@ class Builder:
         if tree_id in stack:
             chain = " -> ".join((*stack, tree_id))
             assert caller is not None
-            raise caller.error(f"recursive subtree: {chain}")
+            self.errors.append(caller.error(f"recursive subtree: {chain}"))
+            return _Invalid(name=caller.label)
+        self._visited.add(tree_id)
         return self._node(self.doc.trees[tree_id], scope, (*stack, tree_id))
 
     def _node(self, spec: NodeSpec, scope: Scope, stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
@@ -177,15 +225,22 @@ class Builder:
             return self._subtree(spec, scope, stack)
         cls = self.classes.get(spec.type)
         if cls is None:
-            raise spec.error(f"unknown node type{did_you_mean(spec.type, [*self.classes, SUBTREE])}")
+            self.errors.append(spec.error(unknown_type_message(spec.type,
+                                                               [*self.classes, SUBTREE])))
+            for c in spec.children:  # their problems are reported too
+                self._node(c, scope, stack)
+            return _Invalid(name=spec.label)
         self._count += 1
         if self._count > MAX_TREE_NODES or self._depth >= MAX_TREE_DEPTH:
             raise spec.error(f"the tree (subtrees expanded) is larger than the limits of "
                              f"{MAX_TREE_NODES} nodes and {MAX_TREE_DEPTH} levels")
+        before = len(self.errors)
         self._depth += 1
         children = self._children(spec, cls, scope, stack)
         self._depth -= 1
         refs, literals = self._ports(spec, cls, scope)
+        if len(self.errors) > before:
+            return _Invalid(name=spec.label)
         kwargs: dict[str, Any] = {}
         if issubclass(cls, Control):
             kwargs["children"] = children
@@ -195,8 +250,10 @@ class Builder:
         try:
             node.wire(scope.prefix, refs, literals)
         except (KeyError, ValueError, TypeError) as e:
-            raise spec.error(f"cannot wire ports: {e}") from None
+            self.errors.append(spec.error(f"cannot wire ports: {e}"))
+            return _Invalid(name=spec.label)
         node.source_location = str(spec.where)  # for error reports at run time
+        node.nav2_distro = self.distro  # nodes whose semantics changed between distributions
         return node
 
     def _children(self, spec: NodeSpec, cls: type[NavNode], scope: Scope,
@@ -205,17 +262,38 @@ class Builder:
         if issubclass(cls, Control):
             lo, hi = cls.MIN_CHILDREN, cls.MAX_CHILDREN
             if lo > 0 and not spec.has_children_key:
-                raise spec.error("needs 'children:' (a list of nodes)")
-            if n < lo or (hi is not None and n > hi):
+                self.errors.append(spec.error("needs 'children:' (a list of nodes)"))
+            elif n < lo or (hi is not None and n > hi):
                 want = f"exactly {lo}" if lo == hi else (f"at least {lo}" if hi is None
                                                          else f"{lo} to {hi}")
-                raise spec.error(f"needs {want} children, has {n}")
+                self.errors.append(spec.error(f"needs {want} children, has {n}"))
         elif issubclass(cls, DecoratorNode):
             if n != 1:
-                raise spec.error(f"a decorator needs exactly one 'child:', has {n}")
+                self.errors.append(spec.error(f"a decorator needs exactly one 'child:', has {n}"))
         elif spec.has_children_key:
-            raise spec.error("is a leaf and takes no children")
+            self.errors.append(spec.error("is a leaf and takes no children"))
         return [self._node(c, scope, stack) for c in spec.children]
+
+    def _nav2_port(self, spec: NodeSpec, port: str, pv: PortValue,
+                   literals: dict[str, Any]) -> bool:
+        """A port Nav2 defines for this node type but navbt's node lacks: understood (a
+        translation such as ``service_name``) or accepted as ignored. False if Nav2 has no
+        such port either."""
+        if port not in nav2_model.any_ports(spec.type) and port not in self.ignored_ports:
+            return False
+        if port == "service_name" and spec.type.startswith("Clear"):
+            which = costmap_of_service(str(pv.raw))
+            if pv.ref is not None or which is None:
+                self.errors.append(spec.error(
+                    f"service_name {pv.raw!r} names neither the local nor the global costmap "
+                    f"(Nav2's are local_costmap/clear_... and global_costmap/clear_...); "
+                    f"write costmap: local, global or both", pv.where))
+            elif "costmap" not in spec.ports:
+                literals["costmap"] = which
+            return True
+        self.ignored.append(f"{pv.where}: {spec.label}: '{port}' is Nav2 plumbing with no "
+                            f"meaning here; kept as written, ignored")
+        return True
 
     def _ports(self, spec: NodeSpec, cls: type[NavNode], scope: Scope
                ) -> tuple[dict[str, str], dict[str, Any]]:
@@ -226,36 +304,48 @@ class Builder:
         choices = getattr(cls, "CHOICES", {})
         for port, pv in spec.ports.items():
             if port not in inputs and port not in outputs:
-                if port in self.ignored_ports:
+                if self._nav2_port(spec, port, pv, literals):
                     continue
                 extra = ("children" if issubclass(cls, Control) else
                          "child" if issubclass(cls, DecoratorNode) else None)
-                raise spec.error(f"unknown port '{port}'{did_you_mean(port, known + ([extra] if extra else []))}",
-                                 pv.where)
+                self.errors.append(spec.error(
+                    f"unknown port '{port}'"
+                    f"{did_you_mean(port, known + ([extra] if extra else []))}", pv.where))
+                continue
             key = pv.ref
             if key is None and pv.looks_like_ref():
-                raise spec.error(f"port '{port}': malformed blackboard reference {pv.raw!r} "
-                                 f"(write \"{{key}}\" with a plain name)", pv.where)
-            if key is not None:
-                target = scope.resolve(key)
-                if isinstance(target, Literal):
-                    value = target.value
-                    if port in outputs:
-                        raise spec.error(f"output port '{port}' is mapped to a constant by its "
-                                         f"SubTree; it needs a blackboard key", pv.where)
-                    literals[port] = self._literal(spec, cls, port, PortValue(value, pv.where),
-                                                   choices, from_text=isinstance(value, str))
-                else:
-                    refs[port] = target
-                    if port in outputs:
-                        self._writes.add(target)
-                    else:
-                        self._reads.append((spec, port, pv, target))
+                self.errors.append(spec.error(f"port '{port}': malformed blackboard reference "
+                                              f"{pv.raw!r} (write \"{{key}}\" with a plain name)",
+                                              pv.where))
                 continue
-            if port in outputs:
-                raise spec.error(f"output port '{port}' needs a blackboard reference such as "
-                                 f"\"{{{port}}}\", got {pv.raw!r}", pv.where)
-            literals[port] = self._literal(spec, cls, port, pv, choices, self.from_text)
+            try:
+                if key is not None:
+                    target = scope.resolve(key)
+                    if isinstance(target, Literal):
+                        value = target.value
+                        if port in outputs:
+                            raise spec.error(f"output port '{port}' is mapped to a constant by "
+                                             f"its SubTree; it needs a blackboard key", pv.where)
+                        literals[port] = self._literal(spec, cls, port,
+                                                       PortValue(value, pv.where), choices,
+                                                       from_text=isinstance(value, str))
+                    else:
+                        refs[port] = target
+                        if port in outputs:
+                            self._writes.add(target)
+                        else:
+                            self._reads.append((spec, port, pv, target))
+                    continue
+                if port in outputs:
+                    raise spec.error(f"output port '{port}' needs a blackboard reference such as "
+                                     f"\"{{{port}}}\", got {pv.raw!r}", pv.where)
+                literals[port] = self._literal(spec, cls, port, pv, choices, self.from_text)
+            except TreeError as e:
+                self.errors.append(e)
+        for port, by_distro in nav2_model.DISTRO_DEFAULTS.get(spec.type, {}).items():
+            if port in inputs and port not in refs and port not in literals \
+                    and self.distro in by_distro:
+                literals[port] = by_distro[self.distro]
         for port, key in cls.DEFAULT_KEYS.items():
             if port not in refs and port not in literals:
                 target = scope.resolve_default(key)
@@ -267,7 +357,8 @@ class Builder:
                         self._writes.add(target)
         for port, info in inputs.items():
             if info.required and not info.has_default and port not in refs and port not in literals:
-                raise spec.error(f"missing required port '{port}' ({info.description})")
+                self.errors.append(spec.error(f"missing required port '{port}' "
+                                              f"({info.description})"))
         return refs, literals
 
     def _literal(self, spec: NodeSpec, cls: type[NavNode], port: str, pv: PortValue,
@@ -287,20 +378,26 @@ class Builder:
     def _subtree(self, spec: NodeSpec, scope: Scope, stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
         tid = spec.subtree_id
         if tid is None:
-            raise spec.error("needs 'id:' naming the tree to insert")
+            self.errors.append(spec.error("needs 'id:' naming the tree to insert"))
+            return _Invalid(name=spec.label)
         if tid not in self.doc.trees:
-            raise spec.error(f"unknown subtree id '{tid}'{did_you_mean(tid, self.doc.trees)}")
+            self.errors.append(spec.error(f"unknown subtree id '{tid}'"
+                                          f"{did_you_mean(tid, self.doc.trees)}"))
+            return _Invalid(name=spec.label)
         if spec.has_children_key:
-            raise spec.error("takes no children (its tree is given by 'id')")
+            self.errors.append(spec.error("takes no children (its tree is given by 'id')"))
         mapping: dict[str, Any] = {}
         used = referenced_keys(self.doc, tid, self.classes, set())
         for inner, pv in spec.ports.items():
             if inner not in used:
-                raise spec.error(f"subtree '{tid}' does not use key '{inner}'"
-                                 f"{did_you_mean(inner, used)}", pv.where)
+                self.errors.append(spec.error(f"subtree '{tid}' does not use key '{inner}'"
+                                              f"{did_you_mean(inner, used)}", pv.where))
+                continue
             key = pv.ref
             if key is None and pv.looks_like_ref():
-                raise spec.error(f"'{inner}': malformed blackboard reference {pv.raw!r}", pv.where)
+                self.errors.append(spec.error(f"'{inner}': malformed blackboard reference "
+                                              f"{pv.raw!r}", pv.where))
+                continue
             mapping[inner] = scope.resolve(key) if key is not None else Literal(pv.raw)
         name = spec.name or tid
         child_scope = Scope(prefix=namespaced(scope.prefix, name), root_ns=scope.root_ns,

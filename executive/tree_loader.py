@@ -51,6 +51,8 @@ class LoadedTree:
     source: str
     main_tree: str
     doc: TreeDoc
+    distro: str | None = None  # the Nav2 distribution whose semantics the tree follows
+    ignored: tuple[str, ...] = ()  # Nav2 attributes kept as written but meaning nothing here
 
     def key(self, name: str) -> str:
         """Absolute blackboard key of a mission-level key (e.g. ``goal``)."""
@@ -163,55 +165,71 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
                 new_run()
 
 
-def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool) -> LoadedTree:
+def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
+           nav2_distro: str | None = None) -> LoadedTree:
     if not re.fullmatch(r"(/[A-Za-z0-9_]+)+/?", namespace):
         raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
                         f"(letters, digits, '_'; a '.' would nest keys), got {namespace!r}")
     if main_tree is not None:
         doc.main_tree = main_tree
-    builder = Builder(doc, namespace.rstrip("/"), from_text=xml,
-                      ignored_ports=NAV2_IGNORED if xml else frozenset())
+    try:
+        distro = doc.effective_distro(nav2_distro)
+    except ValueError as e:
+        raise TreeError(f"{doc.source}:1: {e}") from None
+    builder = Builder(doc, namespace.rstrip("/"), from_text=xml, ignored_ports=NAV2_IGNORED,
+                      distro=distro)
     tid = builder.main_tree()
     root = builder.build(tid)
     return LoadedTree(root=root, tree=LeanBehaviourTree(root),
-                      namespace=namespace.rstrip("/"), source=doc.source, main_tree=tid, doc=doc)
+                      namespace=namespace.rstrip("/"), source=doc.source, main_tree=tid, doc=doc,
+                      distro=distro, ignored=tuple(builder.ignored))
 
 
 def load_tree(path: str | os.PathLike, namespace: str = "/mission",
-              main_tree: str | None = None) -> LoadedTree:
-    """Load a YAML tree file (with its includes), validate it and build it under ``namespace``."""
-    return _build(read_yaml(path), namespace, main_tree, xml=False)
+              main_tree: str | None = None, nav2_distro: str | None = None) -> LoadedTree:
+    """Load a YAML tree file (with its includes), validate it and build it under ``namespace``.
+
+    ``nav2_distro`` (humble, jazzy, kilted, main) overrides the distribution whose semantics
+    apply (the file's ``nav2_distro`` key, else navbt's own semantics)."""
+    return _build(read_yaml(path), namespace, main_tree, xml=False, nav2_distro=nav2_distro)
 
 
 def load_xml(path: str | os.PathLike, namespace: str = "/mission",
-             main_tree: str | None = None) -> LoadedTree:
-    """Load a BehaviorTree.CPP v4 XML file (Nav2 dialect) into the same node classes."""
-    return _build(read_xml(path), namespace, main_tree, xml=True)
+             main_tree: str | None = None, nav2_distro: str | None = None) -> LoadedTree:
+    """Load a BehaviorTree.CPP XML file (Nav2 dialect) into the same node classes.
+
+    Semantics follow ``nav2_distro``, else the root's ``nav2_distro`` attribute, else jazzy
+    (humble for a BT.CPP 3 file, one without ``BTCPP_format``)."""
+    return _build(read_xml(path), namespace, main_tree, xml=True, nav2_distro=nav2_distro)
 
 
-def load_any(path: str | os.PathLike, namespace: str = "/mission") -> LoadedTree:
+def load_any(path: str | os.PathLike, namespace: str = "/mission",
+             nav2_distro: str | None = None) -> LoadedTree:
     """``load_xml`` for ``.xml`` files, ``load_tree`` otherwise."""
-    return (load_xml if str(path).lower().endswith(".xml") else load_tree)(path, namespace)
+    loader = load_xml if str(path).lower().endswith(".xml") else load_tree
+    return loader(path, namespace, nav2_distro=nav2_distro)
+
+
+def _doc_and_main(tree: LoadedTree | TreeDoc, main_tree: str | None
+                  ) -> tuple[TreeDoc, str, str | None]:
+    if isinstance(tree, LoadedTree):
+        return tree.doc, main_tree or tree.main_tree, tree.distro
+    main = main_tree or tree.main_tree or next(iter(tree.trees))
+    return tree, main, tree.effective_distro()
 
 
 def to_xml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
-    """BehaviorTree.CPP v4 XML (one file, with TreeNodesModel) that Groot2 opens."""
-    if isinstance(tree, LoadedTree):
-        doc, main = tree.doc, main_tree or tree.main_tree
-    else:
-        doc = tree
-        main = main_tree or doc.main_tree or next(iter(doc.trees))
-    return write_xml(doc, main, node_classes())
+    """BehaviorTree.CPP v4 XML (one file, with TreeNodesModel) that Groot2 opens; every
+    attribute and comment as written, and ``nav2_distro`` when the tree follows one."""
+    doc, main, distro = _doc_and_main(tree, main_tree)
+    return write_xml(doc, main, node_classes(), distro)
 
 
 def to_yaml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
-    """navbt YAML of a loaded tree (e.g. one read from Nav2 XML); comments are not kept."""
-    if isinstance(tree, LoadedTree):
-        doc, main = tree.doc, main_tree or tree.main_tree
-    else:
-        doc = tree
-        main = main_tree or doc.main_tree or next(iter(doc.trees))
-    return write_yaml(doc, main, node_classes())
+    """navbt YAML of a loaded tree (e.g. one read from Nav2 XML): every attribute as written,
+    comments as YAML comments, and ``nav2_distro`` when the tree follows one."""
+    doc, main, distro = _doc_and_main(tree, main_tree)
+    return write_yaml(doc, main, node_classes(), distro)
 
 
 def shipped_tree(name: str) -> Path:

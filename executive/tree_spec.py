@@ -16,7 +16,8 @@ KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
 
 
 class TreeError(ValueError):
-    """A tree file is not acceptable. The message reads ``file:line: NodeType: what is wrong``.
+    """A tree file is not acceptable. The message reads ``file:line: Name (Type): what is wrong``
+    (``file:line: Type: ...`` for a node without a name of its own).
 
     ``file`` and ``line`` are also attributes, and ``excerpt()`` gives the offending line of the
     file (for a CLI that shows the spot).
@@ -38,6 +39,19 @@ class TreeError(ValueError):
         except OSError:
             return ""
         return lines[self.line - 1] if 0 < self.line <= len(lines) else ""
+
+
+class TreeErrors(TreeError):
+    """Every problem found in one tree (``mission validate`` reports them all at once).
+
+    ``errors`` holds each as a TreeError, in file order; ``file``/``line`` are the first one's.
+    """
+
+    def __init__(self, errors: list[TreeError]) -> None:
+        ordered = sorted(errors, key=lambda e: (e.file or "", e.line or 0))
+        super().__init__("\n".join(str(e) for e in ordered))
+        self.errors = ordered
+        self.file, self.line = ordered[0].file, ordered[0].line
 
 
 def did_you_mean(name: str, known: Iterable[str]) -> str:
@@ -84,9 +98,16 @@ class NodeSpec:
     has_children_key: bool = False  # 'children:' or 'child:' was written
     subtree_id: str | None = None
     autoremap: bool = False
+    form: str | None = None  # XML written as <Action ID="Type">: that element name
+    comments: list[str] = field(default_factory=list)  # comments written just before the node
+
+    @property
+    def label(self) -> str:
+        """``Name (Type)`` for a named node, else ``Type``: how messages name it."""
+        return f"{self.name} ({self.type})" if self.name and self.name != self.type else self.type
 
     def error(self, message: str, where: Where | None = None) -> TreeError:
-        return TreeError(f"{where or self.where}: {self.type}: {message}")
+        return TreeError(f"{where or self.where}: {self.label}: {message}")
 
     def take_subtree_fields(self, id_key: str = "id") -> None:
         """For a SubTree: move ``id`` and ``_autoremap`` out of the ports."""
@@ -112,6 +133,22 @@ class TreeDoc:
     tree_where: dict[str, Where]
     source: str
     from_text: bool = False  # XML: literal port values are strings still to be typed
+    nav2_distro: str | None = None  # the Nav2 distribution the file says it was written for
+    main_key: str = "main_tree"  # how the file names its main tree (XML: main_tree_to_execute)
+    comments: list[str] = field(default_factory=list)  # file-level comments (before the trees)
+    btcpp_format: str | None = None  # XML: <root BTCPP_format>; absent means BT.CPP 3 (Humble)
+
+    def effective_distro(self, override: str | None = None) -> str | None:
+        """The Nav2 distribution whose semantics apply: ``override`` (``--nav2-distro``), else
+        what the file says, else jazzy for BT.CPP 4 XML, humble for BT.CPP 3 XML (no
+        ``BTCPP_format``), and None (navbt's own semantics) for YAML."""
+        from executive import nav2_model
+        chosen = nav2_model.check_distro(override) if override else self.nav2_distro
+        if chosen:
+            return None if chosen == nav2_model.NAVBT else chosen
+        if not self.from_text:
+            return nav2_model.DEFAULT_YAML_DISTRO
+        return nav2_model.DEFAULT_XML_DISTRO if self.btcpp_format else nav2_model.BTCPP3_DISTRO
 
     def include(self, src: str, where: Where | str, read: Callable[[str], TreeDoc]) -> None:
         """Merge the trees of the file ``src`` (relative to this document) read with ``read``;

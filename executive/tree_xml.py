@@ -1,10 +1,12 @@
 """BehaviorTree.CPP v4 XML (the Nav2 dialect) to and from ``TreeDoc``.
 
-Reading uses expat directly so every element keeps its line number (errors say file:line).
-Port values are strings, converted to the port type by the builder. Nav2 plumbing attributes
-that mean nothing without ROS (``server_name``, ``server_timeout``, ...) are ignored, and the
-clear-costmap ``service_name`` picks the costmap. Writing gives one self-contained file with a
-``TreeNodesModel`` for every non-builtin node, which is what Groot2 needs to open it.
+Reading uses expat directly so every element keeps its line number (errors say file:line),
+and comments stay attached to the node they precede. Every attribute is kept as written (Nav2's
+``server_timeout``, ``service_name`` ...): the builder decides what it means, so a round trip
+loses nothing. ``<Action ID="Spin"/>`` (BT.CPP's explicit form) reads as ``<Spin/>`` and is
+written back the same way. Writing gives one self-contained file with a ``TreeNodesModel`` for
+every non-builtin node, which is what Groot2 needs to open it; a Nav2 node type is described by
+Nav2's own ports so that BehaviorTree.CPP with Nav2's plugins accepts the file.
 """
 
 from __future__ import annotations
@@ -17,20 +19,18 @@ from xml.sax.saxutils import quoteattr
 
 from behaviors.base import NavNode
 from behaviors.registry import category
+from executive import nav2_model
 from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where
 from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, read_bytes
 from navcore.types import Pose2D
 
-# Attributes of Nav2's BtActionNode/BtServiceNode and friends that have no meaning here.
-NAV2_IGNORED = frozenset({"server_name", "server_timeout", "is_recovery", "goal_checker_id",
-                          "progress_checker_id", "path_handler_id", "tracking_feedback",
-                          "service_name", "ID"})
+# Attributes of Nav2's BtActionNode/BtServiceNode and friends that have no meaning here; the
+# builder accepts them on any node (kept as written, listed as ignored).
+NAV2_IGNORED = frozenset({"server_name", "server_timeout", "is_recovery"})
 
 # Tags Groot2 knows without a model (BT.CPP built-ins).
-BTCPP_BUILTINS = frozenset({"Sequence", "SequenceWithMemory", "ReactiveSequence", "Fallback",
-                            "ReactiveFallback", "Parallel", "IfThenElse", "Inverter",
-                            "RetryUntilSuccessful", "Repeat", "Timeout", "Delay", "ForceSuccess",
-                            "ForceFailure", "SubTree"})
+BTCPP_BUILTINS = frozenset(nav2_model.BTCPP_BUILTINS)
+EXPLICIT_FORMS = ("Action", "Condition", "Control", "Decorator")
 
 
 @dataclass
@@ -39,6 +39,7 @@ class _Elem:
     attrs: dict[str, str]
     line: int
     children: list["_Elem"] = field(default_factory=list)
+    comments: list[str] = field(default_factory=list)
 
 
 def _parse(file: str) -> _Elem:
@@ -46,12 +47,14 @@ def _parse(file: str) -> _Elem:
     parser = expat.ParserCreate()
     stack: list[_Elem] = []
     root: list[_Elem] = []
+    pending: list[str] = []  # comments waiting for the element they precede
 
     def start(tag: str, attrs: dict[str, str]) -> None:
         if len(stack) >= MAX_XML_DEPTH:
             raise TreeError(f"{file}:{parser.CurrentLineNumber}: elements nested more than "
                             f"{MAX_XML_DEPTH} deep (limit)")
-        el = _Elem(tag, dict(attrs), parser.CurrentLineNumber)
+        el = _Elem(tag, dict(attrs), parser.CurrentLineNumber, comments=list(pending))
+        pending.clear()
         (stack[-1].children if stack else root).append(el)
         stack.append(el)
 
@@ -62,7 +65,11 @@ def _parse(file: str) -> _Elem:
         raise TreeError(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are not "
                         f"allowed (entity '{name}')")
 
+    def comment(text: str) -> None:
+        pending.append(text.strip())
+
     parser.StartElementHandler = start
+    parser.CommentHandler = comment
     parser.EndElementHandler = end
     parser.EntityDeclHandler = no_entities
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
@@ -80,21 +87,20 @@ def _parse(file: str) -> _Elem:
 
 
 def _node(el: _Elem, file: str) -> NodeSpec:
-    spec = NodeSpec(type=el.tag, where=Where(file, el.line))
-    for k, v in el.attrs.items():
+    attrs = dict(el.attrs)
+    tag, form = el.tag, None
+    if tag in EXPLICIT_FORMS and attrs.get("ID"):
+        tag, form = attrs.pop("ID"), el.tag
+    spec = NodeSpec(type=tag, where=Where(file, el.line), form=form, comments=el.comments)
+    for k, v in attrs.items():
         if k == "name":
             spec.name = v
         else:
             spec.ports[k] = PortValue(v, spec.where)
-    if el.tag == "SubTree":
+    if tag in ("SubTree", "SubTreePlus"):  # SubTreePlus: BT.CPP 3's remapping SubTree (Humble)
+        spec.type = "SubTree"
+        spec.form = "SubTreePlus" if tag == "SubTreePlus" else form
         spec.take_subtree_fields("ID")
-    elif el.tag.startswith("Clear") and "costmap" not in spec.ports and "service_name" in el.attrs:
-        service = el.attrs["service_name"]
-        which = "local" if "local" in service else "global" if "global" in service else None
-        if which:
-            spec.ports["costmap"] = PortValue(which, spec.where)
-    for k in NAV2_IGNORED - {"ID"}:  # ROS plumbing: dropped, so exports stay clean
-        spec.ports.pop(k, None)
     spec.children = [_node(c, file) for c in el.children]
     spec.has_children_key = bool(el.children)
     return spec
@@ -113,8 +119,16 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     root = _parse(file)
     if root.tag != "root":
         raise TreeError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")
+    distro = root.attrs.get("nav2_distro")
+    if distro is not None:
+        try:
+            distro = nav2_model.check_distro(distro)
+        except ValueError as e:
+            raise TreeError(f"{file}:{root.line}: <root nav2_distro>: {e}") from None
     doc = TreeDoc(main_tree=root.attrs.get("main_tree_to_execute"), trees={}, tree_where={},
-                  source=file, from_text=True)
+                  source=file, from_text=True, nav2_distro=distro,
+                  main_key="main_tree_to_execute", comments=root.comments)
+    doc.btcpp_format = root.attrs.get("BTCPP_format")
     for el in root.children:
         where = Where(file, el.line)
         if el.tag == "BehaviorTree":
@@ -125,6 +139,7 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
                 raise TreeError(f"{where}: <BehaviorTree ID='{tid}'> must hold exactly one root "
                                 f"node, has {len(el.children)}")
             doc.trees[tid] = _node(el.children[0], file)
+            doc.trees[tid].comments[:0] = el.comments
             doc.tree_where[tid] = where
         elif el.tag.lower() in ("include", "import"):
             src = el.attrs.get("path") or el.attrs.get("file") or el.attrs.get("src")
@@ -157,25 +172,34 @@ def format_value(value: Any) -> str:
     return str(value)
 
 
+def _comment(text: str) -> str:
+    return "<!-- " + text.replace("--", "- -") + " -->"
+
+
 def _write_node(spec: NodeSpec, indent: int, out: list[str]) -> None:
     pad = "  " * indent
+    out.extend(pad + _comment(c) for c in spec.comments)
     attrs = []
+    tag = spec.type
     if spec.type == "SubTree":
         attrs.append(f"ID={quoteattr(spec.subtree_id or '')}")
+    elif spec.form in EXPLICIT_FORMS:
+        tag = spec.form
+        attrs.append(f"ID={quoteattr(spec.type)}")
     if spec.name:
         attrs.append(f"name={quoteattr(spec.name)}")
     if spec.type == "SubTree" and spec.autoremap:
         attrs.append('_autoremap="true"')
     for port, pv in spec.ports.items():
         attrs.append(f"{port}={quoteattr(format_value(pv.raw))}")
-    head = f"{pad}<{spec.type}" + "".join(" " + a for a in attrs)
+    head = f"{pad}<{tag}" + "".join(" " + a for a in attrs)
     if not spec.children:
         out.append(head + "/>")
         return
     out.append(head + ">")
     for c in spec.children:
         _write_node(c, indent + 1, out)
-    out.append(f"{pad}</{spec.type}>")
+    out.append(f"{pad}</{tag}>")
 
 
 def _used_types(doc: TreeDoc) -> list[str]:
@@ -192,10 +216,35 @@ def _used_types(doc: TreeDoc) -> list[str]:
     return seen
 
 
-def write_xml(doc: TreeDoc, main_tree: str, classes: dict[str, type[NavNode]]) -> str:
-    """BT.CPP v4 XML of every tree in ``doc`` plus a TreeNodesModel of the custom nodes."""
-    out = ['<?xml version="1.0" encoding="UTF-8"?>',
-           f'<root BTCPP_format="4" main_tree_to_execute={quoteattr(main_tree)}>']
+def _nav2_model_entry(node_type: str, distro: str | None) -> list[str] | None:
+    """TreeNodesModel lines of a Nav2 node type with Nav2's own ports, None if not Nav2's."""
+    cat = nav2_model.category(node_type)
+    ports = nav2_model.ports(node_type, distro or nav2_model.DISTROS[-1])
+    if cat is None or ports is None:
+        return None
+    lines = [f"    <{cat} ID={quoteattr(node_type)}>"]
+    names = {"in": "input_port", "ou": "output_port", "io": "inout_port"}
+    for pname, (direction, ptype, default) in ports.items():
+        extra = (f" type={quoteattr(ptype)}" if ptype else "") + \
+            (f" default={quoteattr(default)}" if default is not None else "")
+        lines.append(f"      <{names[direction]} name={quoteattr(pname)}{extra}/>")
+    lines.append(f"    </{cat}>")
+    return lines
+
+
+def write_xml(doc: TreeDoc, main_tree: str, classes: dict[str, type[NavNode]],
+              distro: str | None = None) -> str:
+    """BT.CPP v4 XML of every tree in ``doc`` plus a TreeNodesModel of the custom nodes.
+
+    ``distro`` (the Nav2 distribution the tree follows; None: navbt's own) is written as
+    ``nav2_distro`` so that the file keeps its semantics when read back (BT.CPP ignores the
+    attribute); Nav2 node types are modelled with that distribution's ports.
+    """
+    root_attrs = f'BTCPP_format="4" main_tree_to_execute={quoteattr(main_tree)}'
+    root_attrs += f" nav2_distro={quoteattr(distro or nav2_model.NAVBT)}"
+    out = ['<?xml version="1.0" encoding="UTF-8"?>']
+    out.extend(_comment(c) for c in doc.comments)
+    out.append(f"<root {root_attrs}>")
     for tid, spec in doc.trees.items():
         out.append(f"  <BehaviorTree ID={quoteattr(tid)}>")
         _write_node(spec, 2, out)
@@ -203,19 +252,44 @@ def write_xml(doc: TreeDoc, main_tree: str, classes: dict[str, type[NavNode]]) -
     out.append("  <TreeNodesModel>")
     for t in _used_types(doc):
         cls = classes.get(t)
-        if t in BTCPP_BUILTINS or cls is None:
+        if t in BTCPP_BUILTINS:
             continue
-        out.append(f"    <{category(cls)} ID={quoteattr(t)}>")
-        for direction, table in (("input_port", cls.input_ports()),
-                                 ("output_port", cls.output_ports())):
-            for pname, info in table.items():
-                default = info.default_value
-                if default is None and pname in cls.DEFAULT_KEYS:
-                    default = "{" + cls.DEFAULT_KEYS[pname] + "}"
-                dattr = "" if default is None else f" default={quoteattr(format_value(default))}"
-                desc = info.description.replace("&", "&amp;").replace("<", "&lt;")
-                out.append(f"      <{direction} name={quoteattr(pname)}{dattr}>{desc}</{direction}>")
-        out.append(f"    </{category(cls)}>")
+        nav2 = _nav2_model_entry(t, distro)
+        if nav2 is not None:
+            out.extend(nav2)
+            continue
+        if cls is None:
+            continue
+        out.extend(model_entry(cls))
     out.append("  </TreeNodesModel>")
     out.append("</root>")
+    return "\n".join(out) + "\n"
+
+
+def model_entry(cls: type[NavNode]) -> list[str]:
+    """TreeNodesModel lines of a navbt node class (its ports, defaults and descriptions)."""
+    t = cls.__name__
+    out = [f"    <{category(cls)} ID={quoteattr(t)}>"]
+    for direction, table in (("input_port", cls.input_ports()),
+                             ("output_port", cls.output_ports())):
+        for pname, info in table.items():
+            default = info.default_value
+            if default is None and pname in cls.DEFAULT_KEYS:
+                default = "{" + cls.DEFAULT_KEYS[pname] + "}"
+            dattr = "" if default is None else f" default={quoteattr(format_value(default))}"
+            desc = info.description.replace("&", "&amp;").replace("<", "&lt;")
+            out.append(f"      <{direction} name={quoteattr(pname)}{dattr}>{desc}</{direction}>")
+    out.append(f"    </{category(cls)}>")
+    return out
+
+
+def groot_palette(classes: dict[str, type[NavNode]]) -> str:
+    """A Groot2 palette: a BT.CPP 4 file with only a TreeNodesModel of every navbt node type
+    (BT.CPP built-ins excluded: Groot2 knows them)."""
+    out = ['<?xml version="1.0" encoding="UTF-8"?>', '<root BTCPP_format="4">',
+           "  <TreeNodesModel>"]
+    for t in sorted(classes):
+        if t not in BTCPP_BUILTINS:
+            out.extend(model_entry(classes[t]))
+    out += ["  </TreeNodesModel>", "</root>"]
     return "\n".join(out) + "\n"

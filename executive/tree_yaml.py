@@ -23,7 +23,7 @@ import yaml
 from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where, did_you_mean
 from navcore.safe_read import MAX_INCLUDE_DEPTH, compose_yaml, node_value, read_text
 
-TOP_KEYS = ("main_tree", "trees", "include")
+TOP_KEYS = ("main_tree", "nav2_distro", "trees", "include")
 STRUCTURE_KEYS = ("name", "children", "child")
 
 
@@ -114,7 +114,8 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     if len(_stack) >= MAX_INCLUDE_DEPTH:
         raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
                         f"(limit)")
-    root = compose_yaml(read_text(file, what="tree file", error=TreeError), file, error=TreeError)
+    text = read_text(file, what="tree file", error=TreeError)
+    root = compose_yaml(text, file, error=TreeError)
     if root is None:
         raise TreeError(f"{file}:1: empty tree file")
     r = _Reader(file)
@@ -123,6 +124,12 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     for key, vn, where in r.pairs(root, "tree file"):
         if key == "main_tree":
             doc.main_tree = str(r.value(vn))
+        elif key == "nav2_distro":
+            from executive import nav2_model
+            try:
+                doc.nav2_distro = nav2_model.check_distro(str(r.value(vn)))
+            except ValueError as e:
+                raise TreeError(f"{where}: nav2_distro: {e}") from None
         elif key == "include":
             items = vn.value if isinstance(vn, yaml.SequenceNode) else [vn]
             includes += [(str(r.value(i)), r.where(i)) for i in items]
@@ -135,7 +142,42 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
                             f"; expected {', '.join(TOP_KEYS)}")
     for inc, where in includes:
         doc.include(inc, where, lambda target: read_yaml(target, (*_stack, real)))
+    _attach_comments(doc, text, file)
     return doc
+
+
+def _attach_comments(doc: TreeDoc, text: str, file: str) -> None:
+    """Give each block of whole-line comments to a node: the one whose ``Type:`` line is just
+    above the block (how ``write_yaml`` places them), else the one just below; comments above
+    ``trees:`` belong to the file."""
+    by_line: dict[int, NodeSpec] = {}
+
+    def walk(spec: NodeSpec) -> None:
+        if spec.where.file == file:
+            by_line.setdefault(spec.where.line, spec)
+        for c in spec.children:
+            walk(c)
+
+    for spec in doc.trees.values():
+        walk(spec)
+    first_node = min(by_line, default=0)
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        if not lines[i].lstrip().startswith("#"):
+            i += 1
+            continue
+        start = i
+        while i < len(lines) and lines[i].lstrip().startswith("#"):
+            i += 1
+        block = [ln.lstrip()[1:].strip() for ln in lines[start:i]]
+        above, below = by_line.get(start), by_line.get(i + 1)  # 1-based node lines
+        if above is not None:
+            above.comments.extend(block)
+        elif below is not None:
+            below.comments.extend(block)
+        elif i + 1 <= first_node or not by_line:
+            doc.comments.extend(block)
 
 
 # ---------------------------------------------------------------------------- writing
@@ -152,9 +194,13 @@ def _plain(value: Any) -> Any:
     return value
 
 
-def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool) -> dict[str, Any]:
+def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool,
+               comments: list[list[str]]) -> dict[str, Any]:
     from executive.tree_build import convert_literal
     body: dict[str, Any] = {}
+    if spec.comments:  # a marker key, replaced by comment lines once dumped
+        body[f"{_MARK}{len(comments)}"] = None
+        comments.append(spec.comments)
     if spec.type == "SubTree":
         body["id"] = spec.subtree_id
     if spec.name:
@@ -171,7 +217,7 @@ def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool) -> dict
                 pass  # left as text; loading it will report the problem
         body[port] = _plain(value)
     if spec.children:
-        kids = [_node_data(c, classes, from_text) for c in spec.children]
+        kids = [_node_data(c, classes, from_text, comments) for c in spec.children]
         cls_is_decorator = cls is not None and len(spec.children) == 1 and \
             getattr(cls, "CATEGORY", "") == "Decorator"
         if cls_is_decorator:
@@ -181,9 +227,27 @@ def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool) -> dict
     return {spec.type: body}
 
 
-def write_yaml(doc: TreeDoc, main_tree: str, classes: dict[str, Any]) -> str:
-    """The YAML text of every tree in ``doc`` (comments are not kept)."""
-    data = {"main_tree": main_tree,
-            "trees": {tid: _node_data(spec, classes, doc.from_text)
-                      for tid, spec in doc.trees.items()}}
-    return yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=100)
+_MARK = "__navbt_comment_"
+
+
+def write_yaml(doc: TreeDoc, main_tree: str, classes: dict[str, Any],
+               distro: str | None = None) -> str:
+    """The YAML text of every tree in ``doc``; a node's comments open its body."""
+    comments: list[list[str]] = []
+    data: dict[str, Any] = {"main_tree": main_tree}
+    if distro:
+        data["nav2_distro"] = distro
+    data["trees"] = {tid: _node_data(spec, classes, doc.from_text, comments)
+                     for tid, spec in doc.trees.items()}
+    text = yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=100)
+    out = [f"# {part}".rstrip() for c in doc.comments for part in (c.splitlines() or [""])]
+    for line in text.splitlines():
+        stripped = line.lstrip(" -")
+        if stripped.startswith(_MARK):
+            n = int(stripped[len(_MARK):].split(":")[0])
+            pad = " " * (len(line) - len(stripped))
+            out.extend(f"{pad}# {part}".rstrip() for c in comments[n]
+                       for part in (c.splitlines() or [""]))
+            continue
+        out.append(line)
+    return "\n".join(out) + "\n"

@@ -266,10 +266,11 @@ NAV2_JAZZY = """<?xml version="1.0"?>
 def test_nav2_xml_loads_and_unsupported_nodes_are_named(tmp_path):
     p = write(tmp_path, "nav2.xml", NAV2_JAZZY.replace(
         '<Sequence>\n              <WouldAPlannerRecoveryHelp',
-        '<Sequence>\n              <TruncatePathLocal/>\n              <WouldAPlannerRecoveryHelp'))
+        '<Sequence>\n              <AssistedTeleop/>\n              <WouldAPlannerRecoveryHelp'))
     with pytest.raises(TreeError) as e:
         load_xml(p)
-    assert "nav2.xml:11: TruncatePathLocal: unknown node type" in str(e.value)
+    assert ("nav2.xml:11: AssistedTeleop: a Nav2 node (humble, jazzy, kilted, main) that navbt "
+            "does not provide: needs a teleoperation input") in str(e.value)
     p2 = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
     t = load_xml(p2, namespace="/x")
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
@@ -339,12 +340,16 @@ def test_xml_to_yaml_types_the_literals(tmp_path):
     p = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
     text = to_yaml(load_xml(p))
     assert "wait_duration: 5.0" in text and "number_of_retries: 6" in text
-    assert "costmap: local" in text
+    # Nav2's attributes stay as written (issue 19) and still pick the costmap
+    assert "service_name: local_costmap/clear_entirely_local_costmap" in text
+    assert "costmap:" not in text
     y = tmp_path / "nav2b.yaml"
     y.write_text(text)
     t = load_tree(y)
     spin = next(n for n in t.nodes() if type(n).__name__ == "Spin")
     assert spin.get_input("spin_dist") == 1.57
+    clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
+    assert [c.get_input("costmap") for c in clears] == ["global", "local", "local", "global"]
 
 
 def test_docs_node_reference_is_in_step():

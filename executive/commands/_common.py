@@ -25,3 +25,11 @@ def parse_pose(text: str) -> Any:
     if len(values) not in (2, 3) or not all(math.isfinite(v) for v in values):
         raise argparse.ArgumentTypeError(f"{text!r} is not X,Y[,YAW]")
     return Pose2D(values[0], values[1], values[2] if len(values) == 3 else 0.0)
+
+
+def add_nav2_distro(p: argparse.ArgumentParser) -> None:
+    """``--nav2-distro``: the Nav2 distribution whose node semantics a tree follows."""
+    p.add_argument("--nav2-distro", choices=("humble", "jazzy", "kilted", "main", "navbt"),
+                   help="Nav2 distribution whose semantics apply (default: the file's "
+                        "nav2_distro, else jazzy for BT.CPP 4 XML, humble for BT.CPP 3 XML, "
+                        "navbt's own for YAML)")

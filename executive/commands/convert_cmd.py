@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from executive.commands._common import fail
+from executive.commands._common import add_nav2_distro, fail
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -13,6 +13,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", help="output file (default stdout); its extension may "
                                           "choose the format")
     p.add_argument("--to", choices=("xml", "yaml"), help="target format (default: the other one)")
+    add_nav2_distro(p)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -24,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     if target is None:
         target = "yaml" if args.tree.endswith(".xml") else "xml"
     try:
-        text = convert_tree_file(args.tree, target)
+        text = convert_tree_file(args.tree, target, args.nav2_distro)
     except TreeLoadError as e:
         return fail("convert", str(e))
     if args.output:

@@ -9,6 +9,9 @@ from executive.commands._common import fail
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("name", nargs="?", help="a node type (e.g. RecoveryNode)")
+    p.add_argument("--groot", metavar="FILE", nargs="?", const="-",
+                   help="write a Groot2 palette (TreeNodesModel of every node type) to FILE "
+                        "(default stdout)")
 
 
 def _ports(cls) -> list[tuple[str, str, object]]:
@@ -25,6 +28,19 @@ def run(args: argparse.Namespace) -> int:
 
     from behaviors.base import node_classes
     classes = node_classes()
+    if args.groot is not None:
+        from executive.tree_xml import groot_palette
+        text = groot_palette(classes)
+        if args.groot == "-":
+            print(text, end="")
+            return 0
+        try:
+            with open(args.groot, "w", encoding="utf-8") as f:
+                f.write(text)
+        except OSError as e:
+            return fail("nodes", f"{args.groot}: cannot write ({e.strerror or e})")
+        print(args.groot)
+        return 0
     if args.name is None:
         by_cat: dict[str, list[str]] = {}
         for tag, cls in sorted(classes.items()):

@@ -1,0 +1,201 @@
+"""Loading Nav2's trees (issue 19): every error at once, the right hints, attributes and
+comments kept through YAML <-> XML, and the Nav2 distribution a tree follows."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from executive.tree_loader import TreeError, load_any, load_tree, load_xml, to_xml, to_yaml
+from executive.tree_spec import TreeErrors
+
+
+def write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text).lstrip("\n"))
+    return p
+
+
+BROKEN = """
+<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <Sequence name="Main">
+      <Wait name="Pause" wait_duration="soon"/>
+      <AssistedTeleop/>
+      <Spin spin_dits="1.0"/>
+      <FollowPath path="{path" />
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_validate_reports_every_error_with_name_and_type(tmp_path):
+    p = write(tmp_path, "bad.xml", BROKEN)
+    with pytest.raises(TreeErrors) as e:
+        load_xml(p)
+    lines = [str(x) for x in e.value.errors]
+    assert len(lines) == 4
+    assert lines[0].endswith("bad.xml:4: Pause (Wait): port 'wait_duration' expects float, "
+                             "got 'soon'")
+    assert lines[1].endswith("bad.xml:5: AssistedTeleop: a Nav2 node (humble, jazzy, kilted, "
+                             "main) that navbt does not provide: needs a teleoperation input "
+                             "(joystick) navbt does not have")
+    assert lines[2].endswith("bad.xml:6: Spin: unknown port 'spin_dits' (did you mean "
+                             "'spin_dist'?)")
+    assert "bad.xml:7: FollowPath: port 'path': malformed blackboard reference" in lines[3]
+    assert e.value.file == str(p) and e.value.line == 4
+
+
+def test_cli_validate_prints_every_error(tmp_path, capsys):
+    from executive.cli import main
+    p = write(tmp_path, "bad.xml", BROKEN)
+    assert main(["validate", str(p)]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 4 and all(ln.startswith(f"mission validate: {p}:") for ln in err)
+
+
+def test_a_nav2_or_btcpp_node_gets_no_lookalike_suggestion(tmp_path):
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4">
+          <BehaviorTree ID="T">
+            <Sequence>
+              <DockRobot/>
+              <GoalUpdatedd/>
+            </Sequence>
+          </BehaviorTree>
+        </root>
+        """)
+    with pytest.raises(TreeErrors) as e:
+        load_xml(p)
+    a, b = (str(x) for x in e.value.errors)
+    assert "DockRobot: a Nav2 node (jazzy, kilted, main)" in a and "did you mean" not in a
+    assert "GoalUpdatedd: unknown node type (did you mean 'GoalUpdated'?)" in b
+
+
+def test_xml_messages_name_main_tree_to_execute(tmp_path):
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4" main_tree_to_execute="Missing">
+          <BehaviorTree ID="T"><Wait/></BehaviorTree>
+          <BehaviorTree ID="U"><Wait/></BehaviorTree>
+        </root>
+        """)
+    with pytest.raises(TreeError, match="main_tree_to_execute 'Missing' is not defined"):
+        load_xml(p)
+    p = write(tmp_path, "u.xml", """
+        <root BTCPP_format="4">
+          <BehaviorTree ID="T"><Wait/></BehaviorTree>
+          <BehaviorTree ID="U"><Wait/></BehaviorTree>
+        </root>
+        """)
+    with pytest.raises(TreeError, match="no 'main_tree_to_execute' saying which one runs"):
+        load_xml(p)
+
+
+def test_explicit_form_loads_and_round_trips(tmp_path):
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4" main_tree_to_execute="T">
+          <BehaviorTree ID="T">
+            <Control ID="Sequence" name="S">
+              <Action ID="Wait" name="W" wait_duration="2.5"/>
+              <Condition ID="GoalUpdated"/>
+            </Control>
+          </BehaviorTree>
+        </root>
+        """)
+    t = load_xml(p)
+    assert type(t.root).__name__ == "Sequence"
+    assert [type(n).__name__ for n in t.root.children] == ["Wait", "GoalUpdated"]
+    assert t.root.children[0].get_input("wait_duration") == 2.5
+    xml = to_xml(t)
+    assert '<Action ID="Wait" name="W" wait_duration="2.5"/>' in xml
+    assert '<Control ID="Sequence" name="S">' in xml
+
+
+def test_service_name_picks_the_costmap_or_is_refused(tmp_path):
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4">
+          <BehaviorTree ID="T">
+            <Sequence>
+              <ClearEntireCostmap service_name="local_costmap/clear_entirely_local_costmap"/>
+              <ClearCostmapExceptRegion service_name="global_costmap/clear_except_global_costmap"/>
+              <ClearEntireCostmap name="Odd" service_name="my_costmap/clear"/>
+            </Sequence>
+          </BehaviorTree>
+        </root>
+        """)
+    with pytest.raises(TreeErrors) as e:
+        load_xml(p)
+    (err,) = e.value.errors
+    assert "t.xml:6: Odd (ClearEntireCostmap): service_name 'my_costmap/clear' names neither " \
+           "the local nor the global costmap" in str(err)
+    p.write_text(p.read_text().replace('<ClearEntireCostmap name="Odd" service_name='
+                                       '"my_costmap/clear"/>', ""))
+    t = load_xml(p)
+    assert [n.get_input("costmap") for n in t.root.children] == ["local", "global"]
+
+
+ROUND = """
+<?xml version="1.0"?>
+<!-- file comment -->
+<root BTCPP_format="4" main_tree_to_execute="T">
+  <BehaviorTree ID="T">
+    <Sequence>
+      <!-- clear the local costmap first -->
+      <ClearEntireCostmap name="ClearLocal" server_timeout="150"
+                          service_name="local_costmap/clear_entirely_local_costmap"/>
+      <ComputePathToPose goal="{goal}" path="{path}" planner_id="GridBased"
+                         server_timeout="10" error_code_id="{e}"/>
+      <FollowPath path="{path}" controller_id="FollowPath" server_name="follow_path"/>
+    </Sequence>
+  </BehaviorTree>
+</root>
+"""
+
+
+def test_round_trip_keeps_every_attribute_and_comment(tmp_path):
+    p = write(tmp_path, "t.xml", ROUND)
+    t = load_xml(p)
+    assert any("server_timeout" in note for note in t.ignored)
+    text = to_yaml(t)
+    for piece in ("server_timeout: '150'", "service_name: local_costmap/clear_entirely_local_costmap",
+                  "server_name: follow_path", "# clear the local costmap first", "# file comment",
+                  "nav2_distro: jazzy"):
+        assert piece in text
+    y = tmp_path / "t.yaml"
+    y.write_text(text)
+    again = load_tree(y)
+    xml = to_xml(again)
+    assert 'server_timeout="150"' in xml and 'server_timeout="10"' in xml
+    assert "<!-- clear the local costmap first -->" in xml and "<!-- file comment -->" in xml
+    assert 'nav2_distro="jazzy"' in xml
+    x = tmp_path / "again.xml"
+    x.write_text(xml)
+    assert to_yaml(load_xml(x)) == text
+
+
+def test_distribution_from_file_attribute_option_and_default(tmp_path):
+    body = """
+        <root {attrs}>
+          <BehaviorTree ID="T">
+            <RoundRobin><Wait/><Wait/></RoundRobin>
+          </BehaviorTree>
+        </root>
+        """
+    cases = [('BTCPP_format="4"', None, "jazzy", True),
+             ('main_tree_to_execute="T"', None, "humble", True),     # BT.CPP 3: Humble
+             ('BTCPP_format="4" nav2_distro="main"', None, "main", False),
+             ('BTCPP_format="4" nav2_distro="main"', "kilted", "kilted", True)]
+    for i, (attrs, option, distro, wraps) in enumerate(cases):
+        p = write(tmp_path, f"t{i}.xml", body.format(attrs=attrs))
+        t = load_any(p, nav2_distro=option)
+        assert t.distro == distro
+        assert t.root.get_input("wrap_around") is wraps
+    y = write(tmp_path, "t.yaml", "trees:\n  T:\n    RoundRobin: {children: [Wait, Wait]}\n")
+    assert load_tree(y).distro is None                      # navbt's own semantics
+    assert load_tree(y).root.get_input("wrap_around") is False
+    assert load_tree(y, nav2_distro="jazzy").root.get_input("wrap_around") is True
+    bad = write(tmp_path, "bad.xml", body.format(attrs='BTCPP_format="4" nav2_distro="iron"'))
+    with pytest.raises(TreeError, match="unknown Nav2 distribution 'iron'"):
+        load_xml(bad)
