@@ -24,7 +24,7 @@ import py_trees
 from py_trees.common import Status
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
 
-__all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "PortInformation", "Status",
+__all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInformation", "Status",
            "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable",
            "tick_child", "tick_observed", "RUNNING", "SUCCESS", "FAILURE", "INVALID"]
 
@@ -226,39 +226,41 @@ class NavNode(PortsMixin):
         return (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
 
 
+class Recovery:
+    """Marks a node whose start means "a recovery fired" (logs, pictures, summaries).
+
+    Put it first among a node's bases; it works for navbt nodes and plain py_trees behaviours
+    alike. Each start of a run (a tick while not RUNNING) adds one to ``recovery_starts``; the
+    executive compares the counts after each tick, so nothing is wrapped or replaced.
+    """
+
+    recovery_starts: int = 0
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        # a navbt node counts in tick_now (its tick goes through it)
+        if self.status is not RUNNING and not isinstance(self, NavNode):  # type: ignore[attr-defined]
+            self.recovery_starts += 1
+        yield from super().tick()  # type: ignore[misc]
+
+    def tick_now(self) -> None:
+        if self.status is not RUNNING:  # type: ignore[attr-defined]
+            self.recovery_starts += 1
+        super().tick_now()  # type: ignore[misc]
+
+
 class Leaf(NavNode, py_trees.behaviour.Behaviour):
     """Base of actions and conditions (no children).
 
     ``tick_now`` and ``stop`` keep py_trees' semantics (initialise when not RUNNING, update, stop
     on a final status) without its per-tick debug formatting, which dominated the tick cost.
-
-    ``on_error`` (set by the executive) takes an exception raised by ``initialise`` or
-    ``update`` as ``on_error(node, "initialise" | "update", error)``, and the node FAILs this
-    tick; without it the exception leaves the tick.
+    An exception raised by ``initialise`` or ``update`` leaves the tick: a bug is not a
+    navigation failure (the executive ends the mission with INTERNAL_ERROR).
     """
 
-    on_error: Callable[[Any, str, BaseException], None] | None = None
-
     def tick_now(self) -> None:
-        failed = False
         if self.status is not RUNNING:
-            try:
-                self.initialise()
-            except Exception as e:  # noqa: BLE001 - reported, and the node fails
-                if self.on_error is None:
-                    raise
-                self.on_error(self, "initialise", e)
-                failed = True
-        if failed:
-            new_status = FAILURE
-        else:
-            try:
-                new_status = self.update()
-            except Exception as e:  # noqa: BLE001 - reported, and the node fails
-                if self.on_error is None:
-                    raise
-                self.on_error(self, "update", e)
-                new_status = FAILURE
+            self.initialise()
+        new_status = self.update()
         if new_status.__class__ is not Status:  # no set look-up: Enum hashes in Python
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
             new_status = INVALID

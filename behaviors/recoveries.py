@@ -15,7 +15,8 @@ from typing import Any, Iterable
 import numpy as np
 
 from behaviors.actions import heading_to
-from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Status
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Recovery,
+                            Status)
 from behaviors.clearance import clearances
 from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
@@ -35,8 +36,8 @@ def is_collision(cost: int, start_cost: int = 0) -> bool:
     return cost == INSCRIBED_INFLATED_OBSTACLE and start_cost < INSCRIBED_INFLATED_OBSTACLE
 
 
-class Recovery(Leaf):
-    """Base of recoveries: components, error reporting, the zero command on exit."""
+class RecoveryAction(Recovery, Leaf):
+    """Base of the recovery actions: components, error reporting, the zero command on exit."""
 
     CATEGORY = "Action"
     INPUT_PORTS: dict[str, PortInformation]
@@ -148,7 +149,7 @@ _ERR = {"error_code_id": PortInformation(int, False, "a BehaviorError; 0 on succ
 _CMD = {"cmd_vel": PortInformation(Twist, True, "velocity command for this tick")}
 
 
-class _Clear(Recovery):
+class _Clear(RecoveryAction):
     INPUT_PORTS: dict[str, PortInformation]
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     CHOICES = {"costmap": COSTMAP_CHOICES}
@@ -213,7 +214,7 @@ class ClearCostmapAroundRobot(_Clear):
         handle.clear_inside(pose.x, pose.y, self.get_input("reset_distance"))
 
 
-class Wait(Recovery):
+class Wait(RecoveryAction):
     """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS."""
 
     INPUT_PORTS = {"wait_duration": PortInformation(float, False, "s", 1.0)}
@@ -231,7 +232,7 @@ class Wait(Recovery):
         return RUNNING
 
 
-class ReinitializeGlobalLocalization(Recovery):
+class ReinitializeGlobalLocalization(RecoveryAction):
     """Ask the localiser to spread its particles over all free space (amcl's
     global_localization service). SUCCESS in one tick; FAILURE without a localiser."""
 
@@ -256,7 +257,7 @@ class GlobalLocalization(ReinitializeGlobalLocalization):
     """navbt's plain name for ReinitializeGlobalLocalization (same node, same semantics)."""
 
 
-class Spin(Recovery):
+class Spin(RecoveryAction):
     """Turn in place by ``spin_dist`` radians (sign = direction), then stop (rotate_recovery).
 
     Speed = clamp(sqrt(2 acc remaining), min_rotational_vel, max_rotational_vel), ramped by at
@@ -325,7 +326,7 @@ class Spin(Recovery):
         return RUNNING
 
 
-class DriveOnHeading(Recovery):
+class DriveOnHeading(RecoveryAction):
     """Drive straight ``dist_to_travel`` metres at ``speed`` m/s along the current heading
     (negative values drive backwards), then stop (Nav2 ``DriveOnHeading``).
 
@@ -452,7 +453,7 @@ def arc_poses(pose: Pose2D, x: float, y: float, step: float,
     return out
 
 
-class TemporaryGoal(Recovery):
+class TemporaryGoal(RecoveryAction):
     """Get out of a tight spot: find a free, reachable pose near the robot and drive there.
 
     Candidates lie on rings from ``min_distance`` to ``search_radius`` metres, facing away from
@@ -680,7 +681,7 @@ class TemporaryGoal(Recovery):
             self._controller = None
 
 
-class BackOffToPreviousPose(Recovery):
+class BackOffToPreviousPose(RecoveryAction):
     """Drive back along the trail the robot came by to the pose visited ``distance`` metres ago.
 
     The trail is ``pose_history`` (RecordPoseHistory). It starts at the stored pose nearest the

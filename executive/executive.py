@@ -9,8 +9,9 @@ of executive/stack.py) to **decide**; the ``SafetyGate`` (executive/safety.py) a
 **act**; the ``Recorder`` (executive/recorder.py) to **record**; the clock to **wait**.
 ``executive/mission.py`` wires these from a config; ``executive/api.py`` is the public face.
 
-A behaviour that raises fails on its own with the error recorded; an error anywhere else in a
-tick stops the robot for that tick and the loop carries on. Each Executive keeps its blackboard
+An exception raised in a tick is a bug, not a navigation failure: the mission ends with
+INTERNAL_ERROR (the node, the traceback in the tick record and the summary) and the robot stops;
+a fault while sensing stops the robot for that tick and the loop carries on. Each Executive keeps its blackboard
 keys under its own namespace, so two missions in one process never see each other's goal or path.
 """
 
@@ -18,13 +19,15 @@ from __future__ import annotations
 
 import itertools
 import math
+import traceback
+from types import TracebackType
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import py_trees
 from py_trees.common import Status
 
-from behaviors.base import FAILURE, SUCCESS, Leaf
+from behaviors.base import FAILURE, SUCCESS, Recovery
 from hw.interfaces import BaseEvents, BatteryState, RobotIO
 from navcore.clock import Clock, WallClock
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
@@ -33,16 +36,7 @@ from executive.perception import Perception
 from executive.recorder import BlackboardWatcher, Recorder, subsample_path, walk
 from executive.safety import SafetyGate
 
-# Node types whose start counts as "a recovery fired" in logs, pictures and summaries.
-RECOVERY_TYPES = frozenset({
-    "ClearEntireCostmap", "ClearCostmapExceptRegion", "ClearCostmapAroundRobot",
-    "ClearCostmapAroundPose", "Spin", "BackUp", "DriveOnHeading", "Wait", "TemporaryGoal",
-    "BackOffToPreviousPose", "GlobalLocalization", "ReinitializeGlobalLocalization",
-    "RotateRecovery", "ClearCostmapRecovery", "MoveSlowAndClear",
-})
-
 _mission_ids = itertools.count(1)
-_NOOP_INITIALISE = py_trees.behaviour.Behaviour.initialise
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
 
 
@@ -89,6 +83,27 @@ class Trace:
         return d
 
 
+_LIFECYCLE = ("initialise", "update", "terminate", "stop")
+
+
+def failing_node(e: BaseException) -> tuple[py_trees.behaviour.Behaviour | None, str]:
+    """The tree node whose method raised ``e`` (the innermost node on the traceback) and the
+    method the tick called on it (``update``, ``initialise``...); (None, "tick") when no node
+    method is on the traceback."""
+    node, where = None, "tick"
+    tb: TracebackType | None = e.__traceback__
+    while tb is not None:
+        owner = tb.tb_frame.f_locals.get("self")
+        if isinstance(owner, py_trees.behaviour.Behaviour):
+            name = tb.tb_frame.f_code.co_name
+            if owner is not node:
+                node, where = owner, name
+            elif where not in _LIFECYCLE and name in _LIFECYCLE:  # py_trees' tick -> update
+                where = name
+        tb = tb.tb_next
+    return node, where
+
+
 @dataclass
 class MissionResult:
     """Outcome of ``Executive.run``: ``succeeded``, ``failed``, ``timeout`` or ``stopped``."""
@@ -102,6 +117,7 @@ class MissionResult:
     recoveries: list[str]
     collisions: int
     reason: str = ""
+    traceback: str = ""  # of the INTERNAL_ERROR that ended the mission, if one did
 
     @property
     def succeeded(self) -> bool:
@@ -112,7 +128,7 @@ class MissionResult:
                 "goals_total": self.goals_total, "time_s": round(self.sim_time, 3),
                 "ticks": self.ticks, "distance_m": round(self.distance, 3),
                 "recoveries": list(self.recoveries), "collisions": self.collisions,
-                "reason": self.reason}
+                "reason": self.reason, **({"traceback": self.traceback} if self.traceback else {})}
 
 
 class Executive:
@@ -149,7 +165,6 @@ class Executive:
         # only to measure overruns, never to decide anything
         self._wall = wall_clock if wall_clock is not None else WallClock()
         self._events: list[dict[str, Any]] = []
-        self._failed_nodes: set[int] = set()
         self._bb = py_trees.blackboard.Client(name=f"executive{self.namespace}",
                                               namespace=self.namespace)
         for key in ("goal", "goals", "cmd_vel", "path"):
@@ -157,7 +172,9 @@ class Executive:
         self._bb.cmd_vel = None
         self._cmd_key = f"{self.namespace}/cmd_vel"
         self._watcher = BlackboardWatcher(self.namespace)
-        self._guard_nodes()
+        # recovery nodes and the starts seen so far (each start is a "recovery fired" event)
+        self._recoveries = [n for n in self.tree.root.iterate() if isinstance(n, Recovery)]
+        self._recovery_starts = [n.recovery_starts for n in self._recoveries]
         kwargs = dict(self.components)
         kwargs.update(clock=clock, robot=self.robot, control_period=self.period,
                       blackboard_namespace=self.namespace)
@@ -165,65 +182,27 @@ class Executive:
         self._last_scan: LaserScan | None = None
         self._last_odom: Odometry | None = None
         self._started = False
+        self.internal_error: dict[str, Any] | None = None  # the error event of a bug in the tree
         self.recorder.attach(self)
 
-    # --- guarding -----------------------------------------------------------------------------
-    def _guard_nodes(self) -> None:
-        """Make an exception in a node's lifecycle fail that node instead of the loop: navbt
-        leaves report it through ``on_error`` (no wrapper call per tick), other nodes' methods
-        are wrapped."""
-        for node in self.tree.root.iterate():
-            if isinstance(node, Leaf):
-                node.on_error = self._error
-            else:
-                for method in ("initialise", "update"):
-                    original = getattr(node, method)
-                    if getattr(original, "__func__", None) is _NOOP_INITIALISE:
-                        continue  # py_trees' own no-op cannot raise: no wrapper per tick
-                    setattr(node, method, self._guarded(node, method, original))
-            if type(node).__name__ in RECOVERY_TYPES:
-                init = getattr(node, "initialise")
-                setattr(node, "initialise", self._noting_recovery(node, init))
-
-    def _guarded(self, node: py_trees.behaviour.Behaviour, method: str,
-                 original: Callable[[], Any]) -> Callable[[], Any]:
-        failed = self._failed_nodes
-        if method == "initialise":
-            def initialise() -> Any:
-                try:
-                    return original()
-                except Exception as e:  # noqa: BLE001 - a node's bug must not kill the loop
-                    self._error(node, method, e)
-                    failed.add(id(node))
-                    return None
-            return initialise
-
-        def update() -> Any:
-            if failed and id(node) in failed:  # its initialise raised: fail this tick
-                failed.discard(id(node))
-                return Status.FAILURE
-            try:
-                return original()
-            except Exception as e:  # noqa: BLE001
-                self._error(node, method, e)
-                return Status.FAILURE
-        return update
-
-    def _noting_recovery(self, node: py_trees.behaviour.Behaviour,
-                         init: Callable[[], Any]) -> Callable[[], Any]:
-        def call() -> Any:
-            p = self.robot.pose()
-            event = {"recovery": node.name, "type": type(node).__name__,
-                     "t": round(self.clock.now(), 3), "pose": [round(p.x, 3), round(p.y, 3)]}
-            self._events.append(event)
-            self.trace.recoveries.append(event)
-            return init()
-        return call
+    # --- what the nodes did ------------------------------------------------------------------
+    def _note_recoveries(self) -> None:
+        """An event for each recovery node that started a run in this tick."""
+        seen = self._recovery_starts
+        for i, node in enumerate(self._recoveries):
+            if node.recovery_starts != seen[i]:
+                seen[i] = node.recovery_starts
+                p = self.robot.pose()
+                event = {"recovery": node.name, "type": type(node).__name__,
+                         "t": round(self.clock.now(), 3), "pose": [round(p.x, 3), round(p.y, 3)]}
+                self._events.append(event)
+                self.trace.recoveries.append(event)
 
     def _error(self, node: Any, where: str, e: BaseException) -> None:
         name = getattr(node, "name", str(node))
         event = {"error": f"{type(e).__name__}: {e}", "node": name, "in": where,
-                 "t": round(self.clock.now(), 3)}
+                 "t": round(self.clock.now(), 3),
+                 "traceback": "".join(traceback.format_exception(e)).rstrip()}
         self._events.append(event)
         self.trace.errors.append(event)
 
@@ -257,7 +236,7 @@ class Executive:
             self._error("executive", "sense", e)
         requested = self._decide()
         cmd = self._act(requested, now)
-        status = self.tree.root.status
+        status = self.tree.root.status if self.internal_error is None else FAILURE
         self._record(now, pose, cmd, status, wall0)
         self._wait(now)
         return status
@@ -302,18 +281,23 @@ class Executive:
 
     def _decide(self) -> Twist | None:
         """Tick the tree once; the ``cmd_vel`` written during this tick, None if none was or
-        the tick raised (whatever was written before the fault is not trusted)."""
+        the tick raised (a bug: ``internal_error`` is set, the tree interrupted)."""
         storage = _BLACKBOARD.storage
         storage[self._cmd_key] = None  # direct: the client's access checks cost more than a tick
         try:
             self.tree.tick()
-        except Exception as e:  # noqa: BLE001 - a control node's bug: stop, keep looping
-            self._error("tree", "tick", e)
+        except Exception as e:  # noqa: BLE001 - a bug: INTERNAL_ERROR, the robot stops
+            node, where = failing_node(e)
+            self._error(node if node is not None else "tree", where, e)
+            self.internal_error = self.trace.errors[-1]
             try:
                 self.tree.interrupt()
             except Exception:  # noqa: BLE001
                 pass
             return None
+        finally:
+            if self._recoveries:
+                self._note_recoveries()
         requested = storage.get(self._cmd_key)
         return requested if isinstance(requested, Twist) else None
 
@@ -411,7 +395,8 @@ class Executive:
         result = MissionResult(outcome, reached, len(goals), self.clock.now() - t0,
                                self.tick_count, self.trace.distance(),
                                [r["recovery"] for r in self.trace.recoveries],
-                               self.collisions(), reason)
+                               self.collisions(), reason,
+                               self.internal_error["traceback"] if self.internal_error else "")
         self.recorder.footer(result.as_dict())
         return result
 
@@ -425,6 +410,9 @@ class Executive:
         return n
 
     def _failure_reason(self) -> str:
+        if self.internal_error is not None:
+            e = self.internal_error
+            return f"INTERNAL_ERROR in '{e['node']}' ({e['in']}): {e['error']}"
         if self.trace.errors:
             e = self.trace.errors[-1]
             return f"{e['node']}: {e['error']}"

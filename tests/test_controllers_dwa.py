@@ -485,7 +485,7 @@ def test_statuses_for_missing_or_unusable_plans_and_bad_input():
     r = dwa.compute_velocity(Pose2D(float("nan"), 0.0, 0.0), Twist(), far)
     assert r.status == "no_valid_trajectory" and "not finite" in r.reason
     bad = Path(np.array([[0.0, 0.0, 0.0], [np.nan, 1.0, 0.0]]))
-    r = dwa.compute_velocity(Pose2D(), Twist(), bad)                 # never raises
+    r = dwa.compute_velocity(Pose2D(), Twist(), bad)                 # bad input: a reason
     assert r.status == "no_valid_trajectory" and "non-finite" in r.reason
     with pytest.raises(ValueError, match="unknown local planner"):
         make_controller("nope/Planner", cm, RECT, {})

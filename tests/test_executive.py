@@ -13,7 +13,7 @@ from py_trees.common import Access, Status
 from hw.interfaces import BaseEvents
 from navcore.clock import SimClock
 from navcore.types import LaserScan, Odometry, Pose2D, Twist
-from behaviors.base import make as make_node
+from behaviors.base import Recovery, make as make_node
 from executive.executive import Executive
 from executive.recorder import Recorder, read_log, statuses_at
 from executive.safety import SafetyGate
@@ -98,8 +98,9 @@ class Boom(py_trees.behaviour.Behaviour):
         raise RuntimeError("kaboom")
 
 
-class Spin(py_trees.behaviour.Behaviour):
-    """Named like a recovery so the executive logs it; writes a turn command for 3 ticks."""
+class Spin(Recovery, py_trees.behaviour.Behaviour):
+    """A plain py_trees behaviour marked as a recovery (the executive logs its starts); writes
+    a turn command for 3 ticks."""
 
     def setup(self, **kwargs) -> None:
         self.bb = self.attach_blackboard_client(namespace=kwargs["blackboard_namespace"])
@@ -140,14 +141,18 @@ def test_multiple_goals_in_turn():
     assert io_.pose.distance_to(Pose2D()) < 0.15
 
 
-def test_exception_in_node_fails_that_node_and_loop_survives():
+def test_exception_in_node_is_an_internal_error_that_ends_the_mission():
+    # Before, the raising node FAILed and the Selector drove on to the goal: a bug looked like
+    # a navigation failure that a fallback (or a recovery) answers. Now the mission ends.
     root = py_trees.composites.Selector("sel", memory=False,
                                         children=[Boom("boom"), DriveToGoal("drive")])
     ex, io_, _ = make(root)
     result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
-    assert result.succeeded
-    assert ex.trace.errors and ex.trace.errors[0]["node"] == "boom"
-    assert "kaboom" in ex.trace.errors[0]["error"]
+    assert result.outcome == "failed" and result.ticks == 1
+    assert result.reason == "INTERNAL_ERROR in 'boom' (update): RuntimeError: kaboom"
+    assert 'in update\n    raise RuntimeError("kaboom")' in result.traceback
+    assert ex.trace.errors[0]["node"] == "boom" and "kaboom" in ex.trace.errors[0]["error"]
+    assert all(c.is_zero() for c in io_.sent)
 
 
 class Exploding:
@@ -161,22 +166,30 @@ class Exploding:
 
 
 @pytest.mark.parametrize("where", ["initialise", "update"])
-def test_exception_in_a_navbt_leaf_fails_that_leaf_and_loop_survives(where):
-    # navbt leaves report through on_error from their own tick (no wrappers): FollowPath's
-    # initialise resets its controller, ClearEntireCostmap's update resets the costmap.
+def test_exception_in_a_navbt_leaf_ends_the_mission_with_its_traceback(where):
+    # FollowPath's initialise resets its controller, ClearEntireCostmap's update resets the
+    # costmap: either raising ends the mission (the fallback does not drive on), the tick
+    # record and the summary keep the traceback, and the robot gets zero.
     ns = f"/leafboom_{where}"
     leaf = (make_node("FollowPath", name="leafboom", namespace=ns) if where == "initialise"
             else make_node("ClearEntireCostmap", name="leafboom", namespace=ns, costmap="local"))
     root = py_trees.composites.Selector("sel", memory=False,
                                         children=[leaf, DriveToGoal("drive")])
-    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D()), SimClock(), 0.1,
+    stream = io.StringIO()
+    io_ = FakeIO(Pose2D())
+    ex = Executive(py_trees.trees.BehaviourTree(root), io_, SimClock(), 0.1,
                    {"local_costmap": Exploding(), "controllers": {"FollowPath": Exploding()}},
-                   namespace=ns)
+                   namespace=ns, recorder=Recorder(stream))
     result = ex.run([Pose2D(1.0, 0.0)], time_limit=30.0)
-    assert result.succeeded
-    errors = ex.trace.errors
-    assert errors and all(e["node"] == "leafboom" and e["in"] == where for e in errors)
-    assert len(errors) == result.ticks                  # every tick: reported, then FAILURE
+    assert result.outcome == "failed" and result.ticks == 1
+    error = "ValueError: bad start" if where == "initialise" else "RuntimeError: kaboom"
+    assert result.reason == f"INTERNAL_ERROR in 'leafboom' ({where}): {error}"
+    lines = [json.loads(s) for s in stream.getvalue().splitlines()]
+    event = next(e for e in lines[1]["events"] if "error" in e)
+    assert event["node"] == "leafboom" and event["in"] == where
+    assert event["traceback"].startswith("Traceback") and event["traceback"].endswith(error)
+    assert lines[-1]["footer"]["traceback"] == event["traceback"]
+    assert io_.sent and all(c.is_zero() for c in io_.sent)
     # a failed initialise skips update (FollowPath's update would write its error code)
     assert ex.blackboard_get("follow_path_error_code") is None
     ex.shutdown()
@@ -383,3 +396,39 @@ def test_setup_failure_is_a_wiring_error(tmp_path):
             build_mission(str(tree_file), load_config(), grid, Pose2D(1.0, 1.0))
     finally:
         mission.load_tree_file = original
+
+
+@pytest.mark.parametrize("tree", ["nav2", "move_base"])
+def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
+    # Before, the controller caught the TypeError and said "no valid trajectory", and the
+    # shipped trees answered with Spin and BackUp. A bug now ends the mission: INTERNAL_ERROR,
+    # no recovery fired, the robot stopped.
+    from executive.loading import load_tree_file
+    from executive.noop import KinematicRobot, noop_components
+
+    class BuggyController:
+        def set_plan(self, path) -> None:
+            pass
+
+        def reset(self) -> None:
+            pass
+
+        def is_goal_reached(self) -> bool:
+            return False
+
+        def compute_velocity(self, pose, velocity, path=None):
+            return pose.x + None  # TypeError
+
+    ns = f"/buggy_{tree}"
+    components = dict(noop_components(), controllers={"FollowPath": BuggyController()})
+    robot = KinematicRobot()
+    sent = []
+    robot.base.send = lambda cmd: sent.append(cmd)
+    ex = Executive(load_tree_file(f"trees/{tree}.yaml", namespace=ns), robot, SimClock(), 0.05,
+                   components, namespace=ns)
+    result = ex.run([Pose2D(3.0, 0.0)], time_limit=30.0)
+    ex.shutdown()
+    assert result.outcome == "failed" and result.recoveries == []
+    assert result.reason.startswith("INTERNAL_ERROR in '") and "TypeError" in result.reason
+    assert "compute_velocity" in result.traceback
+    assert sent and all(c.is_zero() for c in sent)

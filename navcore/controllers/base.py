@@ -84,30 +84,31 @@ class LocalPlannerBase:
     # --- the control loop entry -----------------------------------------------------------------
     def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None
                          ) -> ControlResult:
-        """One control cycle. Never raises: a fault gives a zero command and a reason."""
-        try:
-            if not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
-                return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
-                                     reason=f"{self.NAME}: pose is not finite: {pose}")
-            if not all(math.isfinite(v) for v in (velocity.vx, velocity.vy, velocity.wz)):
-                return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
-                                     reason=f"{self.NAME}: velocity is not finite: {velocity}")
-            if path is not None:
-                poses = np.asarray(path.poses, dtype=np.float64).reshape(-1, 3)
-                if self._given is None or poses.shape != self._given.shape \
-                        or not np.array_equal(poses, self._given):
-                    self.set_plan(path)
-            self._last_pose, self._last_vel = pose, velocity
-            if len(self._plan) == 0:
-                return ControlResult(Twist.zero(), NO_PLAN, reason=f"{self.NAME}: no plan")
-            self._cycle_params = SimpleNamespace(**self.params.as_dict())
-            try:
-                return self._compute(pose, velocity)
-            finally:
-                self._cycle_params = None
-        except Exception as e:  # the control loop must keep going; the reason tells what broke
+        """One control cycle: a command and a status (never a reason to raise for bad input:
+        a non-finite pose, velocity or path gives a zero command and the reason). An exception
+        is a bug and leaves the call (the executive ends the mission with INTERNAL_ERROR)."""
+        if not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
             return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
-                                 reason=f"{self.NAME}: internal error: {type(e).__name__}: {e}")
+                                 reason=f"{self.NAME}: pose is not finite: {pose}")
+        if not all(math.isfinite(v) for v in (velocity.vx, velocity.vy, velocity.wz)):
+            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+                                 reason=f"{self.NAME}: velocity is not finite: {velocity}")
+        if path is not None:
+            poses = np.asarray(path.poses, dtype=np.float64).reshape(-1, 3)
+            if not np.all(np.isfinite(poses)):
+                return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+                                     reason=f"{self.NAME}: the path has non-finite poses")
+            if self._given is None or poses.shape != self._given.shape \
+                    or not np.array_equal(poses, self._given):
+                self.set_plan(path)
+        self._last_pose, self._last_vel = pose, velocity
+        if len(self._plan) == 0:
+            return ControlResult(Twist.zero(), NO_PLAN, reason=f"{self.NAME}: no plan")
+        self._cycle_params = SimpleNamespace(**self.params.as_dict())
+        try:
+            return self._compute(pose, velocity)
+        finally:
+            self._cycle_params = None
 
     def _compute(self, pose: Pose2D, velocity: Twist) -> ControlResult:
         raise NotImplementedError

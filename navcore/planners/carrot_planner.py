@@ -42,7 +42,8 @@ def costmap_footprint_cost(costmap: Costmap2D, footprint: np.ndarray) -> Footpri
 
 class CarrotPlanner:
     """Straight-line planner; ``footprint_cost(x, y, theta)`` gives the max cost under the
-    footprint at that pose (-1 off the map). ``make_plan`` never raises."""
+    footprint at that pose (-1 off the map). ``make_plan`` gives a path or
+    the reason there is none (an exception is a bug)."""
 
     def __init__(self, costmap: Costmap2D, footprint_cost: FootprintCost,
                  params: dict | None = None) -> None:
@@ -64,10 +65,7 @@ class CarrotPlanner:
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         """[start, goal or the closest acceptable pose before it], or the reason there is none."""
-        try:
-            return self._make_plan(start, goal)
-        except Exception as exc:  # the control loop gets a reason, never an exception
-            return PlanResult.failure(f"planner_error: {type(exc).__name__}: {exc}")
+        return self._make_plan(start, goal)
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):

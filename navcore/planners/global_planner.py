@@ -114,7 +114,8 @@ def _gp_tables(lethal: int, neutral: int, cost_factor: float, allow_unknown: boo
 
 
 class GlobalPlanner:
-    """ROS global_planner; ``make_plan(start, goal)`` never raises."""
+    """ROS global_planner; ``make_plan(start, goal)`` gives a path or
+    the reason there is none (an exception is a bug)."""
 
     def __init__(self, costmap: Costmap2D, params: dict | None = None) -> None:
         self.costmap = costmap
@@ -124,10 +125,7 @@ class GlobalPlanner:
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         """A path from ``start`` to ``goal`` (map frame), or the reason there is none."""
-        try:
-            return self._make_plan(start, goal)
-        except Exception as exc:  # the control loop gets a reason, never an exception
-            return PlanResult.failure(f"planner_error: {type(exc).__name__}: {exc}")
+        return self._make_plan(start, goal)
 
     def _to_map(self, w: Pose2D) -> tuple[float, float] | None:
         cm = self.costmap

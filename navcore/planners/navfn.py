@@ -65,7 +65,8 @@ def _navfn_tables(allow_unknown: bool) -> tuple:
 
 
 class NavFn:
-    """Global planner with NavfnROS semantics; ``make_plan(start, goal)`` never raises."""
+    """Global planner with NavfnROS semantics; ``make_plan(start, goal)`` gives a path or
+    the reason there is none (an exception is a bug)."""
 
     def __init__(self, costmap: Costmap2D, params: dict | None = None) -> None:
         self.costmap = costmap
@@ -75,10 +76,7 @@ class NavFn:
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         """A path from ``start`` to ``goal`` (map frame), or the reason there is none."""
-        try:
-            return self._make_plan(start, goal)
-        except Exception as exc:  # the control loop gets a reason, never an exception
-            return PlanResult.failure(f"planner_error: {type(exc).__name__}: {exc}")
+        return self._make_plan(start, goal)
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):

@@ -10,7 +10,7 @@ from navcore.types import Path
 
 #: Every reason a plan can fail with (``""`` when it succeeded).
 REASONS = ("start_outside_map", "goal_outside_map", "start_occupied", "goal_occupied", "no_path",
-           "invalid_pose", "planner_error")
+           "invalid_pose")
 
 
 @dataclass
