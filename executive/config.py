@@ -70,17 +70,23 @@ MOVE_BASE_PARAMS: tuple[Param, ...] = (
 )
 
 SAFETY_PARAMS: tuple[Param, ...] = (
-    Param("max_vel_x", 0.55, float, "hard forward speed limit (m/s)", min=0.0),
-    Param("min_vel_x", -0.3, float, "hard reverse speed limit (m/s, <= 0)", max=0.0),
-    Param("max_vel_y", 0.0, float, "hard lateral speed limit (m/s)", min=0.0),
-    Param("max_vel_theta", 1.5, float, "hard yaw rate limit (rad/s)", min=0.0),
+    Param("max_vel_x", 0.55, float, "hard forward speed limit (m/s)", min=0.0, max=10.0),
+    Param("min_vel_x", -0.3, float, "hard reverse speed limit (m/s, <= 0)", min=-10.0, max=0.0),
+    Param("max_vel_y", 0.0, float, "hard lateral speed limit (m/s)", min=0.0, max=10.0),
+    Param("max_vel_theta", 1.5, float, "hard yaw rate limit (rad/s)", min=0.0, max=20.0),
     Param("sensor_timeout", 0.5, float, "laser/odometry older than this stops the robot (s)",
-          min=0.0),
+          min=0.001, max=10.0),
     Param("stall_timeout", 2.0, float, "commanded motion without measured motion for this long "
-          "is a stall (s)", min=0.0),
+          "is a stall (s); 0 = no stall check", min=0.0, max=60.0),
     Param("stall_speed", 0.02, float, "measured speed below which a commanded robot counts as "
-          "stalled (m/s or rad/s)", min=0.0),
+          "stalled (m/s or rad/s)", min=0.0, max=1.0),
     Param("stop_on_bumper", True, bool, "a pressed bumper blocks forward motion"),
+    Param("stamp_tolerance", 0.02, float, "a sensor stamp further than this in the future is "
+          "invalid (s)", min=0.0, max=1.0),
+    Param("frozen_scans", 2, int, "this many consecutive fresh scans with identical ranges while "
+          "odometry reports motion mean a frozen laser", min=2, max=1000),
+    Param("watchdog_periods", 1.5, float, "a control cycle taking longer than this many periods "
+          "of wall time stops the robot (wall clock only)", min=1.0, max=100.0),
 )
 
 # ROS namespace -> (module, attribute) of the component's Param table. Resolved lazily so that the

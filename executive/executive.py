@@ -34,7 +34,7 @@ from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
 
 from executive.perception import Perception
 from executive.recorder import BlackboardWatcher, Recorder, subsample_path, walk
-from executive.safety import SafetyGate
+from executive.safety import SafetyGate, Watchdog
 
 _mission_ids = itertools.count(1)
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
@@ -181,6 +181,11 @@ class Executive:
         self.tree.setup(**kwargs)
         self._last_scan: LaserScan | None = None
         self._last_odom: Odometry | None = None
+        # On a wall clock a stalled cycle is a fault: the gate sees the last cycle's length and a
+        # watchdog thread stops the base while a cycle hangs. A simulated clock waits for us.
+        self._on_wall = isinstance(clock, WallClock)
+        self._last_act_wall: float | None = None
+        self._watchdog: Watchdog | None = None
         self._started = False
         self.internal_error: dict[str, Any] | None = None  # the error event of a bug in the tree
         self.recorder.attach(self)
@@ -228,14 +233,24 @@ class Executive:
         wall0 = self._wall.now()
         now = self.clock.now()
         pose = self.robot.pose()
+        errors: list[str] = []  # a phase that raises stops the robot for this cycle
         try:
             self._sense(now)
-            pose = self._estimate()
-            self._perceive(pose, now)
         except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
             self._error("executive", "sense", e)
+            errors.append("sense")
+        try:
+            pose = self._estimate()
+        except Exception as e:  # noqa: BLE001
+            self._error("executive", "estimate", e)
+            errors.append("estimate")
+        try:
+            self._perceive(pose, now)
+        except Exception as e:  # noqa: BLE001
+            self._error("executive", "perceive", e)
+            errors.append("perceive")
         requested = self._decide()
-        cmd = self._act(requested, now)
+        cmd = self._act(requested, now, errors)
         status = self.tree.root.status if self.internal_error is None else FAILURE
         self._record(now, pose, cmd, status, wall0)
         self._wait(now)
@@ -301,15 +316,23 @@ class Executive:
         requested = storage.get(self._cmd_key)
         return requested if isinstance(requested, Twist) else None
 
-    def _act(self, requested: Twist | None, now: float) -> Twist:
+    def _act(self, requested: Twist | None, now: float, errors: list[str] | None = None
+             ) -> Twist:
         """Pass the request through the safety gate and send what it lets through."""
         scan, odom, trace = self._last_scan, self._last_odom, self.trace
+        cycle = None
+        if self._on_wall:
+            wall = self._wall.now()
+            if self._last_act_wall is not None:
+                cycle = (wall - self._last_act_wall) / self.period
+            self._last_act_wall = wall
         gate = self.safety.filter(
             requested, now,
             scan_stamp=scan.stamp if scan is not None else None,
             odom_stamp=odom.stamp if odom is not None else None,
             measured=odom.twist if odom is not None else None,
-            bumper=self.robot.events().bumper)
+            bumper=self.robot.events().bumper, scan=scan, odom=odom, errors=errors or (),
+            cycle_periods=cycle)
         for f in gate.faults:
             trace.faults[f] = trace.faults.get(f, 0) + 1
             self._events.append({"fault": f})
@@ -319,7 +342,21 @@ class Executive:
         except Exception as e:  # noqa: BLE001
             self._error("base", "send", e)
         self.last_cmd = cmd
+        if self._on_wall:
+            self._kick_watchdog()
         return cmd
+
+    def _kick_watchdog(self) -> None:
+        timeout = self.safety.params.watchdog_periods * self.period
+        if self._watchdog is None:
+            self._watchdog = Watchdog(timeout, self._watchdog_stop)
+        self._watchdog.timeout = timeout
+        self._watchdog.kick()
+
+    def _watchdog_stop(self) -> None:
+        """From the watchdog thread while a cycle hangs: zero velocity, noted for the record."""
+        self.io.base.send(Twist.zero())
+        self.last_cmd = Twist.zero()
 
     def _record(self, now: float, pose: Pose2D, cmd: Twist, status: Status,
                 wall0: float) -> None:
@@ -425,6 +462,8 @@ class Executive:
 
     def shutdown(self) -> None:
         """Stop the robot and release the tree (its behaviours' shutdown hooks)."""
+        if self._watchdog is not None:
+            self._watchdog.close()
         self.stop_robot()
         try:
             self.tree.shutdown()

@@ -1,18 +1,40 @@
 """The safety gate between the tree's ``cmd_vel`` and the base.
 
-Every command passes here: it is clipped to hard velocity limits, and it becomes zero when a
-watchdog trips: laser or odometry older than ``sensor_timeout``, a stall (motion commanded for
-``stall_timeout`` while the base reports none), or a pressed bumper for forward motion. Faults are
-returned as short strings so the executive can record them; the gate never raises.
+Every command passes here: it is clipped to hard velocity limits, and it becomes zero for the
+period when any of these holds (each returned as a short fault name the executive records):
+
+- ``sense_error`` / ``estimate_error`` / ``perceive_error``: that phase raised in this cycle;
+- ``stale_laser`` / ``stale_odometry``: no message, one older than ``sensor_timeout``, or a tick
+  without a new message although the sensor's own rate promised one (learned from the spacing of
+  arrivals while healthy);
+- ``laser_stamp_invalid`` / ``odometry_stamp_invalid``: a stamp that is NaN/inf or lies more than
+  ``stamp_tolerance`` in the future;
+- ``laser_frozen``: ``frozen_scans`` consecutive scans with fresh stamps and bit-identical ranges
+  while odometry reports motion (held until the ranges change);
+- ``odometry_frozen``: a fresh odometry message whose pose did not change although its twist says
+  the robot moves (held until the pose changes);
+- ``loop_overrun``: the previous cycle took longer than ``watchdog_periods`` control periods of
+  wall time (only when the executive runs on a wall clock; ``Watchdog`` stops the base during
+  such a stall);
+- ``stall``: motion commanded for ``stall_timeout`` while the base reports none;
+- ``bumper`` (forward motion only) and ``non_finite_command``.
+
+The gate's parameters may be changed from a tree (``SetParameters`` on ``safety``) only to be
+tighter than the robot config made them: never loosened, never switched off. The gate never raises.
 """
 
 from __future__ import annotations
 
 import math
+import threading
+from collections import deque
 from dataclasses import dataclass, field
+from typing import Any, Callable
 
-from navcore.params import Parameters
-from navcore.types import Twist
+import numpy as np
+
+from navcore.params import ParameterError, Parameters
+from navcore.types import LaserScan, Odometry, Twist
 
 from executive.config import SAFETY_PARAMS
 
@@ -37,36 +59,152 @@ class _Snapshot:
 
 _STOP = Twist.zero()  # immutable: one instance serves every stop
 
+# Which way each safety parameter may move from a tree: "down" = only smaller, "up" = only
+# larger, "keep_true" = cannot be switched off. A parameter not listed cannot change at all.
+TIGHTEN = {"max_vel_x": "down", "min_vel_x": "up", "max_vel_y": "down", "max_vel_theta": "down",
+           "sensor_timeout": "down", "stall_timeout": "down", "stall_speed": "up",
+           "stop_on_bumper": "keep_true", "stamp_tolerance": "down", "frozen_scans": "down",
+           "watchdog_periods": "down"}
+
+
+class _Arrivals:
+    """When one sensor's messages arrive: a tick without a new message, later after the last
+    arrival than any spacing seen while healthy, is a missed message."""
+
+    __slots__ = ("stamp", "arrived", "spacings", "missing")
+
+    def __init__(self) -> None:
+        self.stamp: float | None = None
+        self.arrived: float | None = None
+        self.spacings: deque[float] = deque(maxlen=20)
+        self.missing = False
+
+    def missed(self, stamp: float, now: float) -> bool:
+        if stamp != self.stamp:  # a new message
+            if self.arrived is not None and not self.missing:
+                self.spacings.append(now - self.arrived)
+            self.stamp, self.arrived, self.missing = stamp, now, False
+            return False
+        if len(self.spacings) >= 3 and self.arrived is not None:
+            if now - self.arrived >= max(self.spacings) - 1e-9:
+                self.missing = True
+        return self.missing
+
 
 class SafetyGate:
-    """Velocity limits, stale-sensor and stall watchdogs. Any fault sends zero velocity."""
+    """Velocity limits, sensor watchdogs (stale, invalid stamps, frozen content), phase errors,
+    overruns and stall. Any fault sends zero velocity."""
 
     def __init__(self, params: Parameters | None = None, require_laser: bool = True) -> None:
         self.params = params if params is not None else Parameters(SAFETY_PARAMS)
         self.require_laser = require_laser
+        self._baseline = self.params.as_dict()
+        self.params.before_change(self._refuse_loosening)
         self._stall_since: float | None = None
+        self._laser = _Arrivals()
+        self._odom = _Arrivals()
+        self._ranges: np.ndarray | None = None
+        self._repeats = 0
+        self._laser_frozen = False
+        self._odom_pose: Any = None
+        self._odom_frozen = False
 
     def reset(self) -> None:
         self._stall_since = None
 
+    def _refuse_loosening(self, new: dict[str, Any]) -> None:
+        """A tree may tighten the gate, never loosen or disable it (``Parameters.before_change``
+        runs after validation; raising here rejects the whole change)."""
+        for name, value in new.items():
+            base = self._baseline.get(name)
+            rule = TIGHTEN.get(name)
+            ok = (value == base or (rule == "down" and value <= base)
+                  or (rule == "up" and value >= base) or (rule == "keep_true" and value))
+            if name == "stall_timeout" and base > 0 and value <= 0:
+                ok = False  # 0 switches the stall watchdog off
+            if not ok:
+                raise ParameterError(f"safety: parameter '{name}' = {value!r} would loosen the "
+                                     f"safety gate (robot config: {base!r}); a tree may only "
+                                     f"tighten it")
+
+    # --- the checks ---------------------------------------------------------------------------
+    def _stamp_faults(self, stamp: float | None, now: float, tol: float, timeout: float,
+                      arrivals: _Arrivals, name: str, faults: list[str]) -> bool:
+        """Append ``stale_<name>`` or ``<name>_stamp_invalid``; True when the message is usable."""
+        if stamp is None:
+            faults.append(f"stale_{name}")
+            return False
+        if not math.isfinite(stamp) or stamp > now + tol:
+            faults.append(f"{name}_stamp_invalid")
+            return False
+        if arrivals.missed(stamp, now) or now - stamp > timeout:
+            faults.append(f"stale_{name}")
+            return False
+        return True
+
+    def _laser_faults(self, scan: LaserScan, fresh: bool, moving: bool, n_frozen: int,
+                      faults: list[str]) -> None:
+        if fresh:
+            ranges = scan.ranges
+            same = self._ranges is not None and np.array_equal(ranges, self._ranges)
+            self._repeats = self._repeats + 1 if same else 0
+            self._ranges = ranges
+            if not same:
+                self._laser_frozen = False
+            elif moving and self._repeats >= n_frozen - 1:
+                self._laser_frozen = True
+        if self._laser_frozen:
+            faults.append("laser_frozen")
+
+    def _odom_faults(self, odom: Odometry, fresh: bool, still: float, faults: list[str]) -> None:
+        if fresh:
+            pose = odom.pose
+            prev = self._odom_pose
+            same = prev is not None and (pose.x, pose.y, pose.theta) == prev
+            tw = odom.twist
+            says_moving = abs(tw.vx) > still or abs(tw.vy) > still or abs(tw.wz) > still
+            if not same:
+                self._odom_frozen = False
+            elif says_moving:
+                self._odom_frozen = True
+            self._odom_pose = (pose.x, pose.y, pose.theta)
+        if self._odom_frozen:
+            faults.append("odometry_frozen")
+
     def filter(self, cmd: Twist | None, now: float, *, scan_stamp: float | None,
-               odom_stamp: float | None, measured: Twist | None, bumper: bool = False
+               odom_stamp: float | None, measured: Twist | None, bumper: bool = False,
+               scan: LaserScan | None = None, odom: Odometry | None = None,
+               errors: tuple[str, ...] | list[str] = (), cycle_periods: float | None = None
                ) -> GateResult:
-        """Return the command to send at ``now`` given the newest sensor stamps and velocity."""
+        """Return the command to send at ``now`` given the newest sensor stamps and velocity.
+
+        ``scan``/``odom`` (the newest messages) enable the frozen-content checks; ``errors``
+        names the phases that raised this cycle; ``cycle_periods`` is the wall time of the
+        previous cycle in control periods (None when not on a wall clock).
+        """
         p = _Snapshot(self.params.as_dict())  # one dict copy instead of a dozen lookups
+        faults: list[str] = [f"{e}_error" for e in errors]
+        still = p.stall_speed
+        moving = measured is not None and (abs(measured.vx) > still or abs(measured.vy) > still
+                                           or abs(measured.wz) > still)
+        timeout, tol = p.sensor_timeout, p.stamp_tolerance
+        laser_prev = self._laser.stamp
+        if self.require_laser and self._stamp_faults(scan_stamp, now, tol, timeout, self._laser,
+                                                     "laser", faults) and scan is not None:
+            self._laser_faults(scan, scan_stamp != laser_prev, moving, p.frozen_scans, faults)
+        odom_prev = self._odom.stamp
+        if self._stamp_faults(odom_stamp, now, tol, timeout, self._odom, "odometry", faults) \
+                and odom is not None:
+            self._odom_faults(odom, odom_stamp != odom_prev, still, faults)
+        if cycle_periods is not None and cycle_periods > p.watchdog_periods:
+            faults.append("loop_overrun")
         if cmd is None:
             self._stall_since = None
             return GateResult(_STOP)
-        faults: list[str] = []
         values = (cmd.vx, cmd.vy, cmd.wz)
         isfinite = math.isfinite
         if not (isfinite(values[0]) and isfinite(values[1]) and isfinite(values[2])):
             faults.append("non_finite_command")
-        timeout = p.sensor_timeout
-        if odom_stamp is None or now - odom_stamp > timeout:
-            faults.append("stale_odometry")
-        if self.require_laser and (scan_stamp is None or now - scan_stamp > timeout):
-            faults.append("stale_laser")
         if faults:
             self._stall_since = None
             return GateResult(_STOP, faults)
@@ -79,10 +217,7 @@ class SafetyGate:
             faults.append("bumper")
             vx = 0.0
 
-        still = p.stall_speed
         moving_cmd = abs(vx) > still or abs(vy) > still or abs(wz) > still
-        moving = measured is not None and (abs(measured.vx) > still or abs(measured.vy) > still
-                                           or abs(measured.wz) > still)
         if moving_cmd and not moving and p.stall_timeout > 0.0:
             if self._stall_since is None:
                 self._stall_since = now
@@ -97,3 +232,43 @@ class SafetyGate:
         if vx is cmd.vx and vy is cmd.vy and wz is cmd.wz:  # min/max kept every value: reuse
             return GateResult(cmd, faults, clipped)
         return GateResult(Twist(vx, vy, wz), faults, clipped)
+
+
+class Watchdog:
+    """Stops the base when a control cycle stalls on a wall clock: ``kick()`` at every command;
+    if no kick follows within ``timeout`` seconds, ``stop()`` is called once from a daemon
+    thread (a stalled loop cannot send the zero itself)."""
+
+    def __init__(self, timeout: float, stop: Callable[[], None]) -> None:
+        if not timeout > 0:
+            raise ValueError(f"Watchdog: timeout must be > 0, got {timeout}")
+        self.timeout = timeout
+        self._stop = stop
+        self._kicked = threading.Event()
+        self._closed = False
+        self.fired = 0
+        self._thread: threading.Thread | None = None
+
+    def kick(self) -> None:
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="navbt-watchdog", daemon=True)
+            self._thread.start()
+        self._kicked.set()
+
+    def _run(self) -> None:
+        while not self._closed:
+            if self._kicked.wait(self.timeout):
+                self._kicked.clear()
+                continue
+            if self._closed:
+                return
+            self.fired += 1
+            try:
+                self._stop()
+            except Exception:  # noqa: BLE001 - the loop records the base's errors itself
+                pass
+            self._kicked.wait()  # stopped once; wait for the loop to come back
+
+    def close(self) -> None:
+        self._closed = True
+        self._kicked.set()

@@ -31,6 +31,7 @@ class Param:
     min: float | None = None
     max: float | None = None
     choices: tuple | None = None
+    finite: bool = True  # a float must be finite (inf passes every min or max on one side)
 
     def check(self, value: Any, where: str = "") -> Any:
         """Return ``value`` converted to this parameter's type, or raise ParameterError."""
@@ -50,10 +51,17 @@ class Param:
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ParameterError(f"{prefix}parameter '{self.name}' must be a number, "
                                      f"got {value!r}")
-            value = float(value)
+            try:
+                value = float(value)
+            except OverflowError:
+                raise ParameterError(f"{prefix}parameter '{self.name}' = {value} is out of "
+                                     f"range") from None
             if math.isnan(value):  # NaN passes every min/max comparison: refuse it by name
                 raise ParameterError(f"{prefix}parameter '{self.name}' must be a number, "
                                      f"got NaN")
+            if self.finite and math.isinf(value):
+                raise ParameterError(f"{prefix}parameter '{self.name}' must be finite, "
+                                     f"got {value}")
         elif t is str:
             if not isinstance(value, str):
                 raise ParameterError(f"{prefix}parameter '{self.name}' must be a string, "

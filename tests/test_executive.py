@@ -44,7 +44,11 @@ class FakeLaser:
         self.io = io_
 
     def scan(self) -> LaserScan:
-        return LaserScan(self.io.t, -1.0, 1.0, 1.0, 0.0, 0.1, 0.1, 5.0, [1.0, 1.0, 1.0])
+        # a wall 3 m ahead of the start along x: the ranges change as the robot moves (the
+        # safety gate stops a robot whose laser repeats itself while it moves)
+        p = self.io.pose
+        d = max(0.2, 3.0 - p.x) + 0.01 * math.sin(p.theta)
+        return LaserScan(self.io.t, -1.0, 1.0, 1.0, 0.0, 0.1, 0.1, 5.0, [d, d, d])
 
 
 class FakeIO:
