@@ -17,7 +17,8 @@ from navcore.maps import OccupancyGrid
 from executive.capture import RunCapture
 from executive.draw_run import draw_run
 from executive.executive import Executive, MissionResult
-from executive.recorder import Recorder
+from executive.recorder import Recorder, read_log
+from executive.replay_html import write_replay
 from executive.render import NodeStats, RenderError, render_tree
 
 
@@ -74,6 +75,17 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
              str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title,
              capture=capture_of(ex))
+    cap = capture_of(ex)
+    if cap is not None and cap.header:
+        header, lines, footer = cap.header, cap.lines, cap.footer
+    else:  # recorded without a capture: the tick log has the rest
+        if ex.recorder.stream is not None and not ex.recorder.stream.closed:
+            ex.recorder.stream.flush()
+        header, lines, footer = read_log(str(d / "ticks.jsonl"))
+    write_replay(str(d / "replay.html"), header, lines, footer, grid=grid, capture=cap,
+                 footprint=footprint,
+                 title=str(summary.get("name") or os.path.splitext(os.path.basename(
+                     str(summary.get("tree", ""))))[0] or "run"))
     (d / "summary.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
     return summary
 

@@ -37,3 +37,16 @@ REAL_MAPS = {
     "turtlebot3_world": "turtlebot3_world/map.yaml",
     "robotis_office": "robotis_office/map_office_raw.yaml",
 }
+
+
+@pytest.fixture(scope="session")
+def demo_run(tmp_path_factory) -> Path:
+    """The demo scenario (stale doorway, three recoveries) recorded once per session: the run
+    folder that the picture, replay-page, browser and MCAP tests read."""
+    from executive.loading import shipped_tree
+    from executive.scenario import load_scenario, run_scenario
+    out = tmp_path_factory.mktemp("runs") / "demo"
+    scenario = load_scenario(_HERE.parent / "executive" / "data" / "demo.yaml")
+    result = run_scenario(scenario, shipped_tree("smach_recovery"), record_dir=str(out))
+    assert result.outcome == "succeeded" and len(result.recoveries) == 3
+    return out

@@ -335,7 +335,7 @@ def test_run_folder_files(tmp_path):
     summary = finish(tmp_path / "run", ex, result, grid, [(0.2, 0.2), (0.2, -0.2), (-0.2, -0.2),
                                                            (-0.2, 0.2)])
     files = sorted(p.name for p in (tmp_path / "run").iterdir())
-    assert files == ["run.png", "summary.json", "ticks.jsonl", "tree.svg"]
+    assert files == ["replay.html", "run.png", "summary.json", "ticks.jsonl", "tree.svg"]
     saved = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert saved["outcome"] == "succeeded" and saved["recoveries"] == ["spin"]
     assert saved["recovery_events"][0]["type"] == "Spin"

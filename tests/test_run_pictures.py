@@ -4,28 +4,12 @@ from __future__ import annotations
 
 import json
 import math
-import os
 
 import numpy as np
-import pytest
 from PIL import Image
 
 from executive.draw_run import _PALETTE, _TRAJ_COLOUR, _place_badges
-from executive.loading import shipped_tree
 from executive.recorder import read_log
-from executive.scenario import load_scenario, run_scenario
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-@pytest.fixture(scope="module")
-def demo_run(tmp_path_factory):
-    """The demo scenario (stale doorway, three recoveries) recorded once for every test here."""
-    out = tmp_path_factory.mktemp("runs") / "demo"
-    scenario = load_scenario(os.path.join(ROOT, "executive", "data", "demo.yaml"))
-    result = run_scenario(scenario, shipped_tree("smach_recovery"), record_dir=str(out))
-    assert result.outcome == "succeeded" and len(result.recoveries) == 3
-    return out
 
 
 def _colours(img: Image.Image, box: tuple[int, int, int, int]) -> set[tuple[int, int, int]]:

@@ -29,6 +29,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    import os
+
     from executive.config import ConfigError, load_config
     from executive.loading import TreeLoadError
     from executive.mission import WiringError, build_mission, free_start, progress_callback, \
@@ -49,15 +51,16 @@ def run(args: argparse.Namespace) -> int:
             return fail("run", f"--goal {g.x:g},{g.y:g}: outside the map {args.map}")
     # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
     start = args.start if args.hw else (args.start or free_start(grid))
-    log = None
+    recorder = Recorder(None)
     if args.record:
-        from executive.run_folder import open_log
-        log = open_log(args.record)
+        from executive.run_folder import open_recorder
+        recorder = open_recorder(args.record)
     try:
         mission = build_mission(args.tree, config, grid, start, seed=args.seed,
-                                realtime=args.realtime, recorder=Recorder(log),
+                                realtime=args.realtime, recorder=recorder,
                                 hardware="emulated" if args.hw_emulated else args.hw)
     except (TreeLoadError, WiringError) as e:
+        recorder.close()
         return fail("run", str(e))
     progress = Progress()
     result = run_mission(mission, list(args.goal), args.time_limit,
@@ -65,11 +68,11 @@ def run(args: argparse.Namespace) -> int:
     progress.done()
     if args.hw or args.hw_emulated:
         mission.executive.io.close()
-    if log is not None:
-        log.close()
+    if args.record:
         from executive.run_folder import finish
         finish(args.record, mission.executive, result, grid, config.footprint(),
-               extra={"tree": args.tree, "map": args.map})
+               extra={"tree": args.tree, "map": os.path.abspath(args.map)})
+    recorder.close()
     rec = ", ".join(result.recoveries) or "none"
     print(f"{result.outcome}: {result.goals_reached}/{result.goals_total} goals in "
           f"{result.sim_time:.1f} s, {result.distance:.1f} m, recoveries: {rec}, "
