@@ -92,10 +92,13 @@ class RunCapture:
 
     # ------------------------------------------------------------------ sink interface
     def start(self, header: dict[str, Any], executive: Any) -> None:
-        from executive.executive import RECOVERY_TYPES
+        from behaviors.base import Recovery
+
+        from executive.recorder import walk
         self.header = header
-        self._recovery_nodes = {i: name for i, (name, kind, _) in enumerate(header["nodes"])
-                                if kind in RECOVERY_TYPES}
+        self._recovery_nodes = {i: node.name for i, (node, _) in
+                                enumerate(walk(executive.tree.root))
+                                if isinstance(node, Recovery)}
         io = getattr(executive, "io", None)
         mount = getattr(getattr(io, "laser", None), "mount", None)
         self.laser_mount = mount if isinstance(mount, Pose2D) else Pose2D()
