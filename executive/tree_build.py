@@ -20,7 +20,7 @@ from typing import Any, Iterable
 import py_trees
 
 from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes
-from behaviors.reconfigure import parse_values
+from behaviors.decorators.set_parameters import parse_values
 from executive import nav2_model
 from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors,
                                   did_you_mean)

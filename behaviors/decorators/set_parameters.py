@@ -5,13 +5,9 @@ from __future__ import annotations
 
 from typing import Any
 
-import py_trees
 from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, tick_child
-from behaviors.error_codes import BehaviorError
 from navcore.params import ParameterError
 from navcore.safe_read import parse_yaml
-
-Behaviour = py_trees.behaviour.Behaviour
 
 
 def parse_values(text: str) -> dict[str, Any]:
@@ -82,6 +78,3 @@ class SetParameters(DecoratorNode):
 
     def terminate(self, new_status: Status) -> None:
         self._put_back()
-
-
-__all__ = ["SetParameters", "parse_values", "BehaviorError"]

@@ -4,15 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-import py_trees
-
-from behaviors.actions import ComputePathToPose, FollowPath
 from behaviors.base import Control, PortInformation, namespaced, tick_child
-from behaviors.controls import PipelineSequence
-from behaviors.decorators import RateController
 from navcore.types import Pose2D
-
-Behaviour = py_trees.behaviour.Behaviour
+from behaviors.actions.compute_path_to_pose import ComputePathToPose
+from behaviors.actions.follow_path import FollowPath
+from behaviors.controls.pipeline_sequence import PipelineSequence
+from behaviors.decorators.rate_controller import RateController
 
 
 class NavigateToPose(Control):

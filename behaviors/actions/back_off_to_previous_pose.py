@@ -1,0 +1,103 @@
+"""BackOffToPreviousPose: drive back along the recorded trail."""
+
+from __future__ import annotations
+
+from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.error_codes import BehaviorError
+from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from navcore.types import Pose2D
+from behaviors.actions.record_pose_history import heading_to
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+
+
+class BackOffToPreviousPose(RecoveryAction):
+    """Drive back along the trail the robot came by to the pose visited ``distance`` metres ago.
+
+    The trail is ``pose_history`` (RecordPoseHistory). It starts at the stored pose nearest the
+    robot, so repeated back-offs go further back. If the pose ``distance`` back still has its
+    footprint in inscribed cost (half-way out of a dead end, say), the target moves further
+    back along the trail to the first free pose, at most ``max_distance`` metres back. The
+    robot pursues the trail in reverse (pure pursuit with negative speed, ``lookahead`` m),
+    footprint-checked ahead (leaving inscribed cost is allowed). SUCCESS within
+    ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT
+    (``time_allowance`` spent, or no progress as in TemporaryGoal).
+    """
+
+    INPUT_PORTS = {
+        "distance": PortInformation(float, False, "how far back along the trail, m", 0.5),
+        "max_distance": PortInformation(float, False,
+                                        "how far back at most to reach a pose free of "
+                                        "inscribed cost, m", 2.0),
+        "speed": PortInformation(float, False, "m/s", 0.1),
+        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
+        "lookahead": PortInformation(float, False, "pure-pursuit look-ahead, m", 0.25),
+        "xy_goal_tolerance": PortInformation(float, False, "m", 0.08),
+        "time_allowance": PortInformation(float, False, "s before giving up", 20.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        "pose_history": PortInformation(list, False, "Pose2D trail, oldest first"),
+        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
+        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
+                                                   5.0),
+    }
+    OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "back_off_error_code",
+                    "pose_history": "pose_history"}
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._trail = self._plan_trail(self.robot.pose(), self.read("pose_history") or [])
+        self._i = 0
+        self.start_progress_check(self.robot.pose())
+
+    def _plan_trail(self, pose: Pose2D, history: list[Pose2D]) -> list[Pose2D]:
+        """Poses from the one nearest the robot back ``distance`` metres (or on to the first
+        pose free of inscribed cost, within ``max_distance``), newest first."""
+        if not history:
+            return []
+        near = min(range(len(history)), key=lambda i: history[i].distance_to(pose))
+        want = self.get_input("distance")
+        limit = max(want, self.get_input("max_distance"))
+        handle = self.collision_map()
+        trail, travelled = [], 0.0
+        prev = history[near]
+        for p in reversed(history[:near + 1]):
+            travelled += p.distance_to(prev)
+            if travelled > limit + 1e-9:
+                break
+            trail.append(p)
+            prev = p
+            if travelled >= want and (handle is None or 0 <= int(handle.footprint_cost(
+                    p.x, p.y, p.theta)) < INSCRIBED_INFLATED_OBSTACLE):
+                break
+        return trail if travelled > 0.0 else []
+
+    def update(self) -> Status:
+        pose = self.robot.pose()
+        if not self._trail:
+            self.stop_motion()
+            self.report(BehaviorError.NO_POSE_HISTORY, "no trail to back off along")
+            return FAILURE
+        target = self._trail[-1]
+        if pose.distance_to(target) <= self.get_input("xy_goal_tolerance"):
+            self.stop_motion()
+            self.report(BehaviorError.NONE, "back at the previous pose")
+            return SUCCESS
+        if self.clock.now() - self._start > self.get_input("time_allowance") \
+                or self.no_progress(pose):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "time out or no progress")
+            return FAILURE
+        cmd, self._i, hit = self.pursue(pose, self._trail, self._i, target,
+                                        self.get_input("speed"), self.get_input("lookahead"),
+                                        self.get_input("max_rotational_vel"))
+        if cmd is None:
+            assert hit is not None
+            self.stop_motion()
+            self.report(BehaviorError.COLLISION_AHEAD,
+                        f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
+            return FAILURE
+        self.write("cmd_vel", cmd)
+        self.say("{:.2f} m to the previous pose (heading {:.2f})", pose.distance_to(target),
+                 heading_to(pose, target))
+        return RUNNING

@@ -1,0 +1,74 @@
+"""Costmap clearing: ClearEntireCostmap, ClearCostmapExceptRegion, ClearCostmapAroundRobot."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
+from navcore.types import Pose2D
+from behaviors.actions.recovery_action import COSTMAP_CHOICES, RecoveryAction
+
+
+class ClearCostmap(RecoveryAction):
+    INPUT_PORTS: dict[str, PortInformation]
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    CHOICES = {"costmap": COSTMAP_CHOICES}
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        raise NotImplementedError
+
+    def update(self) -> Status:
+        which = self.get_input("costmap")
+        if which not in COSTMAP_CHOICES:
+            self.say(f"costmap must be one of {COSTMAP_CHOICES}, got {which!r}")
+            return FAILURE
+        handles = self.costmap_handles(which)
+        if not handles:
+            self.say(f"no {which} costmap was set up")
+            return FAILURE
+        pose = self.robot.pose() if self.robot is not None else None
+        for h in handles:
+            self.clear(h, pose)
+        self.say(f"cleared {which}")
+        return SUCCESS
+
+
+class ClearEntireCostmap(ClearCostmap):
+    """Reset every layer of the ``costmap`` (local, global or both) in one tick. SUCCESS."""
+
+    INPUT_PORTS = {"costmap": PortInformation(str, False, "local, global or both", "both")}
+    NEEDS_ROBOT = False
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        handle.reset_layers()
+
+
+class ClearCostmapExceptRegion(ClearCostmap):
+    """clear_costmap_recovery: reset clearable layers outside a square of side
+    ``reset_distance`` metres centred on the robot (move_base's conservative/aggressive reset).
+    SUCCESS in one tick."""
+
+    INPUT_PORTS = {
+        "costmap": PortInformation(str, False, "local, global or both", "both"),
+        "reset_distance": PortInformation(float, False, "side of the kept square, m", 1.0),
+    }
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        if pose is None:
+            raise RuntimeError(f"{self.name}: needs the robot pose")
+        handle.clear_outside(pose.x, pose.y, self.get_input("reset_distance"))
+
+
+class ClearCostmapAroundRobot(ClearCostmap):
+    """Reset clearable layers inside a square of side ``reset_distance`` metres centred on the
+    robot. SUCCESS in one tick."""
+
+    INPUT_PORTS = {
+        "costmap": PortInformation(str, False, "local, global or both", "local"),
+        "reset_distance": PortInformation(float, False, "side of the cleared square, m", 1.0),
+    }
+
+    def clear(self, handle: Any, pose: Pose2D | None) -> None:
+        if pose is None:
+            raise RuntimeError(f"{self.name}: needs the robot pose")
+        handle.clear_inside(pose.x, pose.y, self.get_input("reset_distance"))

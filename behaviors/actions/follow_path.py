@@ -1,0 +1,113 @@
+"""FollowPath: drive along the path with the controller (Nav2)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Status
+from behaviors.error_codes import ControllerError
+from navcore.types import Path, Pose2D, Twist
+
+
+class FollowPath(Leaf):
+    """Drive along ``path`` with the controller, one command per tick, until the goal is reached.
+
+    * RUNNING while following; ``cmd_vel`` written every tick. A new ``path`` object is handed to
+      the controller (``set_plan``) as it appears (so replanning takes effect at once).
+    * SUCCESS when the controller reports the goal reached.
+    * FAILURE with ``error_code_id``: INVALID_PATH (no path), INVALID_CONTROLLER,
+      NO_VALID_CONTROL / PATIENCE_EXCEEDED (no valid command for longer than
+      ``failure_tolerance`` s; within it the robot gets zero and the node keeps trying),
+      FAILED_TO_MAKE_PROGRESS (moved less than ``required_movement_radius`` m in
+      ``movement_time_allowance`` s; 0 disables, Nav2's SimpleProgressChecker).
+    """
+
+    INPUT_PORTS = {
+        "path": PortInformation(Path, True, "path to follow"),
+        "controller_id": PortInformation(str, False, "which controller (setup 'controllers' key)",
+                                         "FollowPath"),
+        "failure_tolerance": PortInformation(float, False,
+                                             "s without a valid command before FAILURE; -1 never",
+                                             0.0),
+        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.5),
+        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
+                                                   10.0),
+    }
+    OUTPUT_PORTS = {
+        "cmd_vel": PortInformation(Twist, True, "velocity command for this tick"),
+        "error_code_id": PortInformation(int, False, "a ControllerError; 0 on success"),
+        "error_msg": PortInformation(str, False, "why following failed"),
+    }
+    DEFAULT_KEYS = {"path": "path", "cmd_vel": "cmd_vel", "error_code_id": "follow_path_error_code",
+                    "error_msg": "follow_path_error_msg"}
+
+    def setup(self, **kwargs: Any) -> None:
+        self.clock = self.component(kwargs, "clock")
+        self.robot = self.component(kwargs, "robot")
+        self.controllers = self.component(kwargs, "controllers")
+
+    def initialise(self) -> None:
+        self._plan: Path | None = None
+        self._controller = self.controllers.get(self.get_input("controller_id"))
+        if self._controller is not None:
+            self._controller.reset()
+        now = self.clock.now()
+        self._last_valid = now
+        self._progress_anchor, self._progress_since = self.robot.pose(), now
+
+    def fail(self, code: ControllerError, msg: str) -> Status:
+        self.write("cmd_vel", Twist.zero())
+        self.write("error_code_id", int(code))
+        self.write("error_msg", msg)
+        self.say(msg)
+        return FAILURE
+
+    def update(self) -> Status:
+        if self._controller is None:
+            return self.fail(ControllerError.INVALID_CONTROLLER,
+                             f"no controller '{self.get_input('controller_id')}'")
+        path = self.read("path")
+        if path is None or len(path) == 0:
+            return self.fail(ControllerError.INVALID_PATH, "no path to follow")
+        if path is not self._plan:
+            self._controller.set_plan(path)
+            self._plan = path
+        now, pose = self.clock.now(), self.robot.pose()
+        result = self._controller.compute_velocity(pose, self.robot.velocity())
+        if result.status == "goal_reached" or self._controller.is_goal_reached():
+            self.write("cmd_vel", Twist.zero())
+            self.write("error_code_id", int(ControllerError.NONE))
+            self.write("error_msg", "")
+            self.say("goal reached")
+            return SUCCESS
+        if result.status.startswith("no_valid"):
+            tolerance = self.get_input("failure_tolerance")
+            if tolerance >= 0.0 and now - self._last_valid >= tolerance:
+                code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
+                        else ControllerError.NO_VALID_CONTROL)
+                return self.fail(code, f"no valid command for {now - self._last_valid:.1f} s "
+                                       f"({result.status})")
+            self.write("cmd_vel", Twist.zero())
+            self.say(f"no valid command ({result.status}), trying again")
+            return RUNNING
+        self._last_valid = now
+        if self._stalled(pose, now):
+            return self.fail(ControllerError.FAILED_TO_MAKE_PROGRESS,
+                             f"moved less than {self.get_input('required_movement_radius')} m in "
+                             f"{self.get_input('movement_time_allowance')} s")
+        self.write("cmd_vel", result.cmd)
+        self.say("{}: vx {:.2f} wz {:.2f}", result.status, result.cmd.vx, result.cmd.wz)
+        return RUNNING
+
+    def _stalled(self, pose: Pose2D, now: float) -> bool:
+        allowance = self.get_input("movement_time_allowance")
+        if allowance <= 0.0:
+            return False
+        if pose.distance_to(self._progress_anchor) >= self.get_input("required_movement_radius"):
+            self._progress_anchor, self._progress_since = pose, now
+            return False
+        return now - self._progress_since > allowance
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status is INVALID and self.status is RUNNING:
+            self.write("cmd_vel", Twist.zero())

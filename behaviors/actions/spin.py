@@ -1,0 +1,79 @@
+"""Spin: turn in place, footprint-checked (Nav2, rotate_recovery)."""
+
+from __future__ import annotations
+
+import math
+
+from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.error_codes import BehaviorError
+from navcore.types import Pose2D, Twist, angle_diff
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+
+
+class Spin(RecoveryAction):
+    """Turn in place by ``spin_dist`` radians (sign = direction), then stop (rotate_recovery).
+
+    Speed = clamp(sqrt(2 acc remaining), min_rotational_vel, max_rotational_vel), ramped by at
+    most ``rotational_acc_lim`` per second. RUNNING while turning; SUCCESS when the turned angle
+    is within ``yaw_goal_tolerance`` of the target; FAILURE (``error_code_id``) when
+    ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell (or enter
+    inscribed cost) within the next ``simulate_ahead_time`` seconds of turning
+    (COLLISION_AHEAD). A new run counts from zero.
+    """
+
+    INPUT_PORTS = {
+        "spin_dist": PortInformation(float, False, "angle to turn, rad; sign gives direction", 1.57),
+        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
+        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
+        "min_rotational_vel": PortInformation(float, False, "rad/s", 0.4),
+        "rotational_acc_lim": PortInformation(float, False, "rad/s^2", 3.2),
+        "yaw_goal_tolerance": PortInformation(float, False, "rad", 0.1),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "sim_granularity": PortInformation(float, False, "collision check step, rad", 0.017),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+    }
+    OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "spin_error_code"}
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._prev = self.robot.pose().theta
+        self._turned = 0.0
+        self._w = 0.0
+
+    def update(self) -> Status:
+        target = self.get_input("spin_dist")
+        sign = 1.0 if target >= 0.0 else -1.0
+        pose = self.robot.pose()
+        self._turned += sign * angle_diff(pose.theta, self._prev)
+        self._prev = pose.theta
+        remaining = abs(target) - self._turned
+        if remaining <= self.get_input("yaw_goal_tolerance"):
+            self.stop_motion()
+            self.report(BehaviorError.NONE, f"turned {self._turned:.2f} rad")
+            return SUCCESS
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, f"time out after {self._turned:.2f} of "
+                                               f"{abs(target):.2f} rad")
+            return FAILURE
+        acc = self.get_input("rotational_acc_lim")
+        w = math.sqrt(2.0 * acc * remaining)
+        w = min(max(w, self.get_input("min_rotational_vel")), self.get_input("max_rotational_vel"))
+        w = min(w, abs(self._w) + acc * self.control_period)
+        if not self.get_input("disable_collision_checks"):
+            ahead = min(remaining, w * self.get_input("simulate_ahead_time"))
+            step = max(self.get_input("sim_granularity"), ahead / 20.0)
+            n = max(1, int(math.ceil(ahead / step)))
+            poses = (Pose2D(pose.x, pose.y, pose.theta + sign * ahead * k / n)
+                     for k in range(1, n + 1))
+            hit = self.first_collision(poses, pose)
+            if hit is not None:
+                self.stop_motion()
+                self.report(BehaviorError.COLLISION_AHEAD,
+                            f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
+                return FAILURE
+        self._w = sign * w
+        self.write("cmd_vel", Twist(0.0, 0.0, self._w))
+        self.say("turned {:.2f} of {:.2f} rad", self._turned, abs(target))
+        return RUNNING

@@ -1,0 +1,298 @@
+"""TemporaryGoal: get out of a tight spot to a free pose nearby."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.clearance import clearances
+from behaviors.error_codes import BehaviorError
+from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from navcore.types import Pose2D, Twist, angle_diff
+from behaviors.actions.record_pose_history import heading_to
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+
+
+def ring_candidates(center: Pose2D, min_distance: float, max_distance: float, radial_step: float,
+                    angular_samples: int) -> list[Pose2D]:
+    """Poses on rings around ``center``, each facing away from it."""
+    out = []
+    radii = np.arange(min_distance, max_distance + 1e-9, max(radial_step, 1e-3))
+    for r in radii:
+        for k in range(angular_samples):
+            a = center.theta + 2.0 * math.pi * k / angular_samples
+            out.append(Pose2D(center.x + r * math.cos(a), center.y + r * math.sin(a),
+                              math.atan2(math.sin(a), math.cos(a))))
+    return out
+
+
+# spacing of the footprint checks along a candidate arc while searching, m
+ARC_SEARCH_STEP = 0.03
+
+
+# clear arcs compared for clearance, and the clearance (m) beyond which any arc will do
+ARC_CHOICES = 8
+
+
+# arc searches per run: a blocked arc is replaced by a new one from where the robot stands
+ARC_SEARCHES = 3
+
+
+ARC_GAP_ENOUGH = 0.1
+
+
+def arc_poses(pose: Pose2D, x: float, y: float, step: float,
+              max_turn: float = 0.5 * math.pi, end_only: bool = False) -> list[Pose2D] | None:
+    """Poses every ``step`` metres along the circular arc a differential drive follows from
+    ``pose`` to the point (x, y), forwards if the point is ahead, backwards if behind; the last
+    one is at the point with the heading the arc ends with (``end_only``: just that one). None
+    when the arc would turn by more than ``max_turn`` or the point is (nearly) abeam or at the
+    robot."""
+    rel = Pose2D(x, y, 0.0).relative_to(pose)
+    d2 = rel.x * rel.x + rel.y * rel.y
+    turn = 2.0 * math.atan2(abs(rel.y), abs(rel.x))
+    if d2 < 1e-6 or turn > max_turn:
+        return None
+    k = 2.0 * rel.y / d2                                    # curvature: w = v * k either way
+    length = turn / abs(k) if abs(k) > 1e-9 else abs(rel.x)
+    direction = 1.0 if rel.x > 0.0 else -1.0
+    n = max(1, int(math.ceil(length / step)))
+    out = []
+    for j in range(n if end_only else 1, n + 1):
+        s = direction * length * j / n                      # signed distance along the arc
+        a = k * s
+        lx = math.sin(a) / k if abs(k) > 1e-9 else s
+        ly = (1.0 - math.cos(a)) / k if abs(k) > 1e-9 else 0.0
+        out.append(pose.compose(Pose2D(lx, ly, a)))
+    return out
+
+
+class TemporaryGoal(RecoveryAction):
+    """Get out of a tight spot: find a free, reachable pose near the robot and drive there.
+
+    Candidates lie on rings from ``min_distance`` to ``search_radius`` metres, facing away from
+    the robot. Those whose footprint cost is below the inscribed cost are ranked by openness
+    plus turn (cost/253 + turn/90 degrees, where a pose straight ahead or behind needs no turn)
+    and tried in that order, at most ``max_plans_per_tick`` planner calls per tick, until one
+    has a plan. The controller then follows the plan; if it finds no valid command (its
+    footprint already in inflated cost, say), the node drives there itself by pure pursuit at
+    ``escape_speed``, footprint-checked. SUCCESS when the goal is reported reached or the robot
+    is within ``xy_goal_tolerance``. FAILURE: NO_FREE_POSE, COLLISION_AHEAD (no valid command
+    and the own pursuit is blocked too), TIMEOUT (``time_allowance`` spent, or no progress of
+    ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
+    the chosen pose.
+    """
+
+    INPUT_PORTS = {
+        "search_radius": PortInformation(float, False, "farthest candidate, m", 1.5),
+        "min_distance": PortInformation(float, False, "nearest candidate, m", 0.4),
+        "radial_step": PortInformation(float, False, "spacing of the rings, m", 0.2),
+        "angular_samples": PortInformation(int, False, "candidates per ring", 16),
+        "costmap": PortInformation(str, False, "costmap to score candidates on", "local"),
+        "planner_id": PortInformation(str, False, "planner for the way there", "GridBased"),
+        "controller_id": PortInformation(str, False, "controller for the way there", "FollowPath"),
+        "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
+        "goal": PortInformation(Pose2D, False, "navigation goal: among equally open poses, "
+                                               "those nearer to it come first"),
+        "arc_first": PortInformation(bool, False,
+                                     "first try poses one collision-free arc away, driven "
+                                     "without the planner", True),
+        "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
+        "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
+        "escape_speed": PortInformation(float, False,
+                                        "m/s of the own pursuit used when the controller finds "
+                                        "no valid command (0 = never)", 0.1),
+        "lookahead": PortInformation(float, False, "own pursuit look-ahead, m", 0.4),
+        "max_rotational_vel": PortInformation(float, False, "own pursuit, rad/s", 1.0),
+        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+        "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
+        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
+                                                   5.0),
+    }
+    OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT,
+                    "temporary_goal": PortInformation(Pose2D, False, "the pose chosen")}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "temporary_goal_error_code",
+                    "temporary_goal": "temporary_goal", "goal": "goal"}
+    CHOICES = {"costmap": ("local", "global")}
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self.planners = self.component(kwargs, "planners")
+        self.controllers = self.component(kwargs, "controllers")
+
+    def initialise(self) -> None:
+        self._start = self.clock.now()
+        self._candidates: list[Pose2D] | None = None
+        self._goal: Pose2D | None = None
+        self._controller = None
+        self._own = False
+        self._arcs_tried = not self.get_input("arc_first") or self.get_input("escape_speed") <= 0
+        self._arc_mode = False
+        self._arc_searches = 0
+
+    def _rank(self, pose: Pose2D) -> list[Pose2D]:
+        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
+        scored = []
+        for c in ring_candidates(pose, self.get_input("min_distance"),
+                                 self.get_input("search_radius"), self.get_input("radial_step"),
+                                 self.get_input("angular_samples")):
+            cost = int(handle.footprint_cost(c.x, c.y, c.theta)) if handle is not None else 0
+            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
+                # A differential drive reaches poses ahead or behind with gentle arcs, while a
+                # pose abeam needs a sharp turn that sweeps a corner into whatever is beside it.
+                bearing = abs(angle_diff(heading_to(pose, c), pose.theta))
+                turn = min(bearing, math.pi - bearing)
+                score = cost / INSCRIBED_INFLATED_OBSTACLE + turn / (0.5 * math.pi)
+                scored.append((round(score, 2), c.distance_to(pose), c))
+        scored.sort(key=lambda t: t[:2])
+        return [t[2] for t in scored]
+
+    def _to_goal(self, pose: Pose2D) -> float:
+        """Distance from ``pose`` to the navigation goal in tenths of a metre (0 without one)."""
+        goal = self.read("goal")
+        return round(pose.distance_to(goal), 1) if isinstance(goal, Pose2D) else 0.0
+
+    def _arc_goal(self, pose: Pose2D) -> Pose2D | None:
+        """The best pose one arc away (forwards or backwards, turning at most 90 degrees) whose
+        footprint is free at the arc's end and clear all along it; None if there is none.
+        Ranked by openness at the end (in tenths of the inscribed cost), then by the distance
+        left to the navigation goal (tenths of a metre; when one is known), then arc length."""
+        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
+        ends = []
+        for c in ring_candidates(pose, self.get_input("min_distance"),
+                                 self.get_input("search_radius"), self.get_input("radial_step"),
+                                 self.get_input("angular_samples")):
+            last = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP, end_only=True)
+            if last is None:
+                continue
+            end = last[0]
+            cost = int(handle.footprint_cost(end.x, end.y, end.theta)) if handle else 0
+            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
+                half = 0.5 * abs(angle_diff(end.theta, pose.theta))   # arc from its chord
+                length = pose.distance_to(end) * (half / math.sin(half) if half > 1e-9 else 1.0)
+                ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 1), self._to_goal(end),
+                             round(length, 3), end, c))
+        ends.sort(key=lambda t: t[:3])
+        if self.get_input("disable_collision_checks"):
+            return ends[0][3] if ends else None
+        # Of the first few clear arcs, take the one that keeps farthest from lethal cells
+        # (the gentlest way out of a tight spot).
+        best, best_gap, clear = None, -math.inf, 0
+        for _, _, _, end, c in ends:
+            arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP) or []
+            if self.first_collision(arc, pose) is not None:
+                continue
+            gaps = clearances(handle, arc) if handle is not None else None
+            gap = min(float(np.min(gaps)), ARC_GAP_ENOUGH) if gaps is not None else 0.0
+            if gap > best_gap + 1e-3:
+                best, best_gap = end, gap
+            clear += 1
+            if clear >= ARC_CHOICES or best_gap >= ARC_GAP_ENOUGH:
+                break
+        return best
+
+    def update(self) -> Status:
+        pose = self.robot.pose()
+        if self.clock.now() - self._start > self.get_input("time_allowance"):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "time out")
+            return FAILURE
+        if self._goal is None:
+            return self._search(pose)
+        return self._drive(pose)
+
+    def _chosen(self, pose: Pose2D, goal: Pose2D, how: str) -> None:
+        self._goal = goal
+        self.start_progress_check(pose)
+        self.write("temporary_goal", goal)
+        self.say(f"temporary goal ({goal.x:.2f}, {goal.y:.2f}) {how}")
+
+    def _search(self, pose: Pose2D) -> Status:
+        self.write("cmd_vel", Twist.zero())
+        if not self._arcs_tried:
+            self._arcs_tried = True
+            goal = self._arc_goal(pose)
+            self._arc_searches += 1
+            if goal is not None:
+                self._own = self._arc_mode = True  # one arc: our own checked motion, no planner
+                self._chosen(pose, goal, "one arc away")
+                return RUNNING
+        if self._candidates is None:
+            self._candidates = self._rank(pose)
+        planner = self.planners.get(self.get_input("planner_id"))
+        controller = self.controllers.get(self.get_input("controller_id"))
+        if planner is None or controller is None:
+            self.report(BehaviorError.INVALID_INPUT, "unknown planner or controller id")
+            return FAILURE
+        for _ in range(self.get_input("max_plans_per_tick")):
+            if not self._candidates:
+                self.stop_motion()
+                self.report(BehaviorError.NO_FREE_POSE, "no reachable free pose nearby")
+                return FAILURE
+            cand = self._candidates.pop(0)
+            result = planner.make_plan(pose, cand)
+            if result.ok and result.path is not None and len(result.path) > 0:
+                self._controller = controller
+                controller.reset()
+                controller.set_plan(result.path)
+                self._chosen(pose, cand, "by plan")
+                break
+        return RUNNING
+
+    def _drive(self, pose: Pose2D) -> Status:
+        assert self._goal is not None
+        reached = pose.distance_to(self._goal) <= self.get_input("xy_goal_tolerance")
+        result = None
+        if self._controller is not None and not self._own:
+            result = self._controller.compute_velocity(pose, self.robot.velocity())
+            reached = (reached or result.status == "goal_reached"
+                       or self._controller.is_goal_reached())
+        if reached:
+            self.stop_motion()
+            self.report(BehaviorError.NONE, "reached the temporary goal")
+            return SUCCESS
+        if self.no_progress(pose):
+            self.stop_motion()
+            self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
+            return FAILURE
+        if result is not None and not result.status.startswith("no_valid"):
+            cmd = result.cmd
+        else:
+            # One arc chosen, or the controller refuses to move from here (its footprint
+            # already touches inflated cost, say): drive with our own footprint-checked
+            # pursuit, which may leave inscribed cost. Once chosen, keep it until the goal.
+            speed = self.get_input("escape_speed")
+            # Aim at the temporary goal itself: over these short distances the straight
+            # pursuit arc is the gentlest way there (the plan may start with a sharp turn).
+            own, _, hit = (self.pursue(pose, [self._goal], 0, self._goal, speed,
+                                       self.get_input("lookahead"),
+                                       self.get_input("max_rotational_vel"))
+                           if speed > 0.0 else (None, 0, None))
+            if own is None and self._arc_mode and self._arc_searches < ARC_SEARCHES:
+                # the costmap changed under the arc (a new obstacle, sensor noise along a
+                # wall): look for another arc from here
+                self._goal, self._arcs_tried, self._arc_mode = None, False, False
+                self.stop_motion()
+                self.say("arc blocked; searching again")
+                return RUNNING
+            if own is None:
+                self.stop_motion()
+                why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
+                status = result.status if result is not None else "one arc"
+                self.report(BehaviorError.COLLISION_AHEAD, f"controller: {status}; {why}")
+                return FAILURE
+            self._own, cmd = True, own
+        self.write("cmd_vel", cmd)
+        self.say("{:.2f} m to the temporary goal" + (" (own pursuit)" if self._own else ""),
+                 pose.distance_to(self._goal))
+        return RUNNING
+
+    def terminate(self, new_status: Status) -> None:
+        super().terminate(new_status)
+        if getattr(self, "_controller", None) is not None:
+            self._controller.reset()  # the main FollowPath sets its own plan again
+            self._controller = None

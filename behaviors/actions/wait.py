@@ -1,0 +1,24 @@
+"""Wait: RUNNING for a while of the injected clock (Nav2)."""
+
+from __future__ import annotations
+
+from behaviors.base import RUNNING, SUCCESS, PortInformation, Status
+from behaviors.actions.recovery_action import RecoveryAction
+
+
+class Wait(RecoveryAction):
+    """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS."""
+
+    INPUT_PORTS = {"wait_duration": PortInformation(float, False, "s", 1.0)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    NEEDS_ROBOT = False
+
+    def initialise(self) -> None:
+        self._until = self.clock.now() + self.get_input("wait_duration")
+
+    def update(self) -> Status:
+        left = self._until - self.clock.now()
+        if left <= 1e-9:
+            return SUCCESS
+        self.say("{:.1f} s left", left)
+        return RUNNING

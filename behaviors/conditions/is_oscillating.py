@@ -1,0 +1,48 @@
+"""IsOscillating (move_base's oscillation check)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from behaviors.base import FAILURE, PortInformation, Status
+from navcore.types import Pose2D
+from behaviors.conditions.condition import Condition, ProgressWindow, yes
+
+
+class IsOscillating(Condition):
+    """move_base's oscillation check: SUCCESS when the robot has not moved
+    ``oscillation_distance`` metres within ``oscillation_timeout`` seconds (0 = never).
+
+    The timer restarts when the goal changes, and, like move_base after a recovery, when the
+    node was not ticked for more than two control periods.
+    """
+
+    INPUT_PORTS = {
+        "oscillation_timeout": PortInformation(float, False, "s; 0 disables the check", 0.0),
+        "oscillation_distance": PortInformation(float, False, "m the robot must move", 0.5),
+        "goal": PortInformation(Pose2D, False, "the timer restarts when this changes"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"goal": "goal"}
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self._window = ProgressWindow()
+        self._last_tick = -math.inf
+        self._goal: Pose2D | None = None
+
+    def update(self) -> Status:
+        now, pose, goal = self.clock.now(), self.pose(), self.read("goal")
+        if goal != self._goal or now - self._last_tick > 2.0 * self.control_period:
+            self._window.reset(pose, now)
+            self._goal = goal
+        self._last_tick = now
+        timeout = self.get_input("oscillation_timeout")
+        if timeout <= 0.0:
+            return FAILURE
+        osc = self._window.stalled(pose, now, self.get_input("oscillation_distance"), timeout)
+        if osc:
+            self.say(f"oscillating: moved < {self.get_input('oscillation_distance')} m "
+                     f"in {timeout} s")
+        return yes(osc)

@@ -1,0 +1,43 @@
+"""IfThenElse (BT.CPP)."""
+
+from __future__ import annotations
+
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, tick_child
+
+
+class IfThenElse(Control):
+    """First child is the condition: SUCCESS runs the second child, FAILURE the third.
+
+    With only two children a false condition gives FAILURE. The chosen branch keeps running
+    until it finishes; its status is returned. (BT.CPP ``IfThenElse``; 2 or 3 children.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    MIN_CHILDREN = 2
+    MAX_CHILDREN = 3
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._branch = 0
+
+    def tick_now(self) -> None:
+        if self.status is not RUNNING:
+            self._branch = 0
+        if self._branch == 0:
+            cond = self.children[0]
+            tick_child(cond)
+            if cond.status is RUNNING:
+                self._finish(RUNNING)
+                return
+            if cond.status is SUCCESS:
+                self._branch = 1
+            elif len(self.children) == 3:
+                self._branch = 2
+            else:
+                self._finish(FAILURE)
+                return
+        branch = self.children[self._branch]
+        self.current_child = branch
+        tick_child(branch)
+        self._finish(branch.status)

@@ -1,0 +1,42 @@
+"""Parallel (BT.CPP)."""
+
+from __future__ import annotations
+
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, Status, tick_child
+
+
+class Parallel(Control):
+    """Tick all unfinished children every tick (one thread, in order).
+
+    SUCCESS when ``success_count`` children succeeded (-1: all), FAILURE when ``failure_count``
+    failed (-1: all); either halts the rest. Otherwise RUNNING. (BT.CPP ``Parallel``.)
+    """
+
+    INPUT_PORTS = {
+        "success_count": PortInformation(int, False, "children that must succeed; -1 = all", -1),
+        "failure_count": PortInformation(int, False, "children failing to fail the node; -1 = all", 1),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def _threshold(self, port: str) -> int:
+        n = self.get_input(port)
+        return len(self.children) if n < 0 else min(n, len(self.children))
+
+    def tick_now(self) -> None:
+        if self.status is not RUNNING:
+            self._done: dict[int, Status] = {}
+        need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
+        for i, child in enumerate(self.children):
+            if i in self._done:
+                continue
+            tick_child(child)
+            if child.status is SUCCESS or child.status is FAILURE:
+                self._done[i] = child.status
+        successes = sum(1 for s in self._done.values() if s is SUCCESS)
+        failures = len(self._done) - successes
+        if successes >= need_success:
+            self._finish(SUCCESS)
+        elif failures >= need_failure or len(self._done) == len(self.children):
+            self._finish(FAILURE)
+        else:
+            self._finish(RUNNING)

@@ -1,0 +1,69 @@
+"""RoundRobin (Nav2)."""
+
+from __future__ import annotations
+
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, PortInformation, Status,
+                            tick_child)
+
+
+class RoundRobin(Control):
+    """Tick one child per attempt, moving on to the next child each time one finishes.
+
+    A child SUCCESS: SUCCESS (the next run starts at the following child). FAILURE: the next
+    child is tried in the same tick. FAILURE once every child has failed in a row, or, with
+    ``wrap_around: false``, once the last child has been attempted (so a recovery list is tried
+    at most once per navigation; the position then returns to the first child). Halting it
+    while RUNNING resets the position; halting it after it finished does not.
+    (Nav2 ``RoundRobin``, main branch.)
+    """
+
+    INPUT_PORTS = {
+        "wrap_around": PortInformation(bool, False, "start again at the first child after the last",
+                                       False),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._index = 0
+        self._failed = 0
+
+    def tick_now(self) -> None:
+        n = len(self.children)
+        wrap = self.get_input("wrap_around")
+        if self._index >= n:  # the last child succeeded last time and there is no wrap
+            self._index, self._failed = 0, 0
+            self.say("every child attempted")
+            self._finish(FAILURE)
+            return
+        while self._failed < n:
+            child = self.children[self._index]
+            self.current_child = child
+            tick_child(child)
+            if child.status is RUNNING:
+                self._finish(RUNNING)
+                return
+            self._index += 1
+            exhausted = self._index == n
+            if exhausted and wrap:
+                self._index = 0
+            if child.status is SUCCESS:
+                self._failed = 0
+                self._finish(SUCCESS)
+                return
+            self._failed += 1
+            if exhausted and not wrap:
+                break
+        self._failed = 0
+        self._index = self._index % n if wrap else 0
+        self.say("every child attempted")
+        self._finish(FAILURE)
+
+    def terminate(self, new_status: Status) -> None:
+        # Interrupted while running (goal change, parent halted): forget the position.
+        if new_status is INVALID and self.status is RUNNING:
+            self._index, self._failed = 0, 0
+
+    def new_run(self) -> None:
+        """Start again at the first child: the tree is interrupted for a new goal."""
+        self._index, self._failed = 0, 0

@@ -1,0 +1,34 @@
+"""RateController (Nav2)."""
+
+from __future__ import annotations
+
+import math
+
+from behaviors.base import INVALID, RUNNING, SUCCESS, PortInformation, tick_child
+from behaviors.decorators.timeout import Timed
+
+
+class RateController(Timed):
+    """Tick the child at most ``hz`` times per second (Nav2 ``RateController``).
+
+    The child is ticked on the first tick of a run, whenever it is RUNNING, and when ``1/hz``
+    seconds passed since its last success; otherwise the child's last result is returned.
+    ``hz: 0`` ticks it once per run (move_base's ``planner_frequency: 0``).
+    """
+
+    INPUT_PORTS = {"hz": PortInformation(float, False, "rate, Hz; 0 = once per run", 10.0)}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick_now(self) -> None:
+        now = self.clock.now()
+        hz = self.get_input("hz")
+        if self.status is INVALID:
+            self._last_ok = -math.inf
+            self._last_status = INVALID
+        due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
+        if (self._last_status is INVALID or self.decorated.status is RUNNING or due):
+            tick_child(self.decorated)
+            self._last_status = self.decorated.status
+            if self._last_status is SUCCESS:
+                self._last_ok = now
+        self._finish(self._last_status)

@@ -1,0 +1,26 @@
+"""SingleTrigger (Nav2)."""
+
+from __future__ import annotations
+
+from behaviors.base import FAILURE, INVALID, RUNNING, DecoratorNode, PortInformation, tick_child
+
+
+class SingleTrigger(DecoratorNode):
+    """Run the child once per activation; afterwards FAILURE until the parent resets this node.
+
+    (Nav2 ``SingleTrigger``: e.g. one Spin per navigation attempt.)
+    """
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def tick_now(self) -> None:
+        if self.status is INVALID:
+            self._fired = False
+        if self._fired and self.decorated.status is not RUNNING:
+            self._finish(FAILURE)
+            return
+        tick_child(self.decorated)
+        if self.decorated.status is not RUNNING:
+            self._fired = True
+        self._finish(self.decorated.status)

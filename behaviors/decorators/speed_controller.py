@@ -1,0 +1,44 @@
+"""SpeedController (Nav2)."""
+
+from __future__ import annotations
+
+import math
+
+from behaviors.base import INVALID, RUNNING, SUCCESS, PortInformation, tick_child
+from behaviors.decorators.distance_controller import UsesRobot
+
+
+class SpeedController(UsesRobot):
+    """Tick the child at a rate that grows with the robot's speed (Nav2 ``SpeedController``).
+
+    Rate = min_rate + (max_rate - min_rate) * (v - min_speed) / (max_speed - min_speed), clamped;
+    first tick of a run, RUNNING child, or period elapsed tick the child.
+    """
+
+    INPUT_PORTS = {
+        "min_rate": PortInformation(float, False, "rate at min_speed, Hz", 0.1),
+        "max_rate": PortInformation(float, False, "rate at max_speed, Hz", 1.0),
+        "min_speed": PortInformation(float, False, "speed giving min_rate, m/s", 0.0),
+        "max_speed": PortInformation(float, False, "speed giving max_rate, m/s", 0.5),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+
+    def rate(self, speed: float) -> float:
+        lo, hi = self.get_input("min_speed"), self.get_input("max_speed")
+        r0, r1 = self.get_input("min_rate"), self.get_input("max_rate")
+        f = 0.0 if hi <= lo else min(1.0, max(0.0, (speed - lo) / (hi - lo)))
+        return r0 + (r1 - r0) * f
+
+    def tick_now(self) -> None:
+        now = self.clock.now()
+        v = self.robot.velocity()
+        rate = self.rate(math.hypot(v.vx, v.vy))
+        if self.status is INVALID:
+            self._last_status, self._last_ok = INVALID, -math.inf
+        due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
+        if self._last_status is INVALID or self.decorated.status is RUNNING or due:
+            tick_child(self.decorated)
+            self._last_status = self.decorated.status
+            if self._last_status is SUCCESS:
+                self._last_ok = now
+        self._finish(self._last_status)
