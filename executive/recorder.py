@@ -3,8 +3,10 @@
 The first line is a header (``{"header": {...}}``) listing the tree's nodes in pre-order as
 ``[name, type, depth]``; later lines refer to nodes by that index, so a run can be replayed
 without reloading the tree. Each tick line holds only what changed: node statuses, blackboard
-writes, plus the pose, the command sent, events (recoveries, faults, errors, contacts) and an
-``overrun_ms`` when the tick took longer than its period.
+writes, plus the pose, the command sent and events (recoveries, faults, errors, contacts).
+Everything in it comes from the simulated clock and seeded generators, so the same seed gives a
+byte-identical file. Wall-clock figures (``overrun_ms`` when a tick took longer than its period)
+are not deterministic and go to a separate ``timing`` stream (``timing.jsonl`` in a run folder).
 """
 
 from __future__ import annotations
@@ -198,8 +200,10 @@ class Recorder:
     page's data): each has ``start(header, executive)``, ``tick(line, executive)`` and
     ``finish(footer)``."""
 
-    def __init__(self, stream: TextIO | None, sinks: list[Any] | None = None) -> None:
+    def __init__(self, stream: TextIO | None, sinks: list[Any] | None = None,
+                 timing: TextIO | None = None) -> None:
         self.stream = stream
+        self.timing = timing  # wall-clock figures: kept apart, they differ run to run
         self.sinks = list(sinks or [])
         self._nodes: list[py_trees.behaviour.Behaviour] = []
         self._last_status: list[str] = []
@@ -268,8 +272,9 @@ class Recorder:
         line["cmd"] = to_jsonable(cmd)
         if events:
             line["events"] = events
-        if overrun_ms is not None:
-            line["overrun_ms"] = round(overrun_ms, 3)
+        if overrun_ms is not None and self.timing is not None:
+            self.timing.write(json.dumps({"tick": tick, "overrun_ms": round(overrun_ms, 3)},
+                                         separators=(",", ":")) + "\n")
         self._write(line)
         for sink in self.sinks:
             sink.tick(line, self._executive)
@@ -288,6 +293,8 @@ class Recorder:
         """Close the log stream and every sink that holds a file or a server."""
         if self.stream is not None:
             self.stream.close()
+        if self.timing is not None:
+            self.timing.close()
         for sink in self.sinks:
             close = getattr(sink, "close", None)
             if close is not None:

@@ -1,4 +1,7 @@
-"""The run folder: ``tree.svg``, ``ticks.jsonl``, ``run.png`` and ``summary.json``.
+"""The run folder: ``tree.svg``, ``ticks.jsonl``, ``timing.jsonl``, ``run.png``, ``summary.json``.
+
+``ticks.jsonl`` is byte-identical for the same seed; ``timing.jsonl`` (wall-clock overruns) and the
+``overruns`` count of ``summary.json`` are measurements of this machine and are not.
 
 ``ticks.jsonl`` is streamed by the Recorder while the mission runs (``open_recorder``, or
 ``open_log`` for the tick log alone); the rest is written once at the end (``finish``) from the
@@ -29,10 +32,17 @@ def open_log(run_dir: str | os.PathLike) -> TextIO:
     return open(d / "ticks.jsonl", "w", encoding="utf-8")
 
 
+def open_timing(run_dir: str | os.PathLike) -> TextIO:
+    """Open the folder's ``timing.jsonl``: the wall-clock figures kept out of the tick log."""
+    d = FsPath(run_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    return open(d / "timing.jsonl", "w", encoding="utf-8")
+
+
 def open_recorder(run_dir: str | os.PathLike) -> Recorder:
-    """A Recorder writing ``run_dir/ticks.jsonl`` and capturing what the pictures need
-    (close it with ``recorder.close()``)."""
-    return Recorder(open_log(run_dir), sinks=[RunCapture()])
+    """A Recorder writing ``run_dir/ticks.jsonl`` (and ``timing.jsonl``) and capturing what the
+    pictures need (close it with ``recorder.close()``)."""
+    return Recorder(open_log(run_dir), sinks=[RunCapture()], timing=open_timing(run_dir))
 
 
 def capture_of(ex: Executive) -> RunCapture | None:
