@@ -229,7 +229,7 @@ def test_demo_runs_and_writes_run_folder(tmp_path, capsys):
     assert "\r" not in out  # the progress line stays quiet when stdout is not a terminal
     assert sorted(p.name for p in out_dir.iterdir()) == ["replay.html", "run.png",
                                                           "summary.json", "ticks.jsonl",
-                                                          "tree.svg"]
+                                                          "timing.jsonl", "tree.svg"]
     summary = json.loads((out_dir / "summary.json").read_text())
     assert summary["outcome"] == "succeeded" and summary["collisions"] == 0
     assert summary["recoveries"], "the demo is a stuck situation: some recovery must fire"
