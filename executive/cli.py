@@ -21,6 +21,10 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "convert": ("convert_cmd", "convert a tree between YAML and BT.CPP XML"),
     "replay": ("replay_cmd", "show the tree's state at any tick of a recorded run"),
     "scenario": ("scenario_cmd", "run stuck-robot scenarios against trees"),
+    "sweep": ("sweep_cmd", "run a parameter / tree sweep over scenarios (resumable), or report "
+                           "one"),
+    "tune": ("tune_cmd", "search parameters with Optuna for the best success rate over "
+                         "scenarios"),
     "map-info": ("map_info_cmd", "load a map_server map and print its size and cell counts"),
 }
 

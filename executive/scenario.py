@@ -332,6 +332,8 @@ class ScenarioResult:
     reason: str = ""
     run_dir: str | None = None
     known_issue: str = ""
+    distance: float = 0.0        # path driven (m)
+    goals_reached: int = 0
 
     def as_dict(self) -> dict[str, Any]:
         return {"scenario": self.scenario, "tree": self.tree, "outcome": self.outcome,
@@ -419,4 +421,4 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
                           fired_types, result.collisions,
                           result.outcome == "succeeded" and result.collisions == 0,
                           not failures, failures, result.reason, record_dir,
-                          scenario.known_issue)
+                          scenario.known_issue, result.distance, result.goals_reached)

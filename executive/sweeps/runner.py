@@ -1,0 +1,181 @@
+"""Running a sweep's runs: one run in a worker, and the executors that spread them.
+
+``run_task`` is the whole job of a worker: load the scenario, apply the point, run it in the
+simulator, return the record. It never raises: a run that fails is an ``error`` record, and the
+sweep goes on. Executors: in-process (``jobs=1``), a process pool on the local cores, or Dask
+(``dask.distributed``: a scheduler address or a LocalCluster). Each worker warms the numba kernels
+once when it starts (``warm_worker``), not once per run. Results come back in completion order
+and are written to the store one by one by the caller's ``on_result``.
+"""
+
+from __future__ import annotations
+
+import os
+import socket
+import tempfile
+import time
+import traceback
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from typing import Any, Callable, Iterable
+
+from executive.sweeps.spec import RunTask
+
+OnResult = Callable[[RunTask, dict[str, Any], dict[str, Any]], None]
+MAX_WORKER_DEATHS = 2   # a run whose worker died this often is recorded as an error
+
+_scenarios: dict[str, Any] = {}
+_tree_dir: str | None = None
+
+
+def navbt_version() -> str:
+    try:
+        from importlib.metadata import version
+        return version("navbt")
+    except Exception:  # noqa: BLE001 - not installed (a source checkout on sys.path)
+        return "unknown"
+
+
+def warm_worker() -> str:
+    """Compile (or load from numba's cache) the kernels a run needs, once per worker process."""
+    from executive.scenario import run_scenario, scenario_from_mapping
+    from executive.loading import shipped_tree
+    doc = {"name": "warmup", "map": {"resolution": 0.1, "ascii": "\n".join(
+        ["#" * 24] + ["#" + "." * 22 + "#"] * 10 + ["#" * 24])},
+        "start": [0.5, 0.5, 0.0], "goals": [[1.5, 0.5, 0.0]], "time_limit": 5}
+    run_scenario(scenario_from_mapping(doc, "<warmup>"), shipped_tree("smach_recovery"))
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
+def _scenario(path: str) -> Any:
+    from executive.scenario import load_scenario
+    if path not in _scenarios:
+        _scenarios[path] = load_scenario(path)
+    return _scenarios[path]
+
+
+def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
+    """Run one task; returns (record, timing). Never raises."""
+    global _tree_dir
+    t0 = time.perf_counter()
+    point = dict(task.point)
+    record: dict[str, Any] = {
+        "run_id": task.run_id, "scenario": os.path.basename(task.scenario), "seed": task.seed,
+        "tree": os.path.splitext(os.path.basename(task.tree))[0], "point": point,
+        "outcome": "error", "reason": None, "passed": 0, "solved": 0, "sim_time_s": None,
+        "recoveries": [], "n_recoveries": 0, "contacts": None, "path_length_m": None,
+        "goals_reached": None, "goals_total": None, "error": None,
+        "navbt_version": navbt_version()}
+    try:
+        from executive.scenario import run_scenario
+        from executive.sweeps.apply import apply_point, tree_with_ports
+        scenario = apply_point(_scenario(task.scenario), point, task.config, seed=task.seed,
+                               time_limit=task.time_limit)
+        if _tree_dir is None:
+            _tree_dir = tempfile.mkdtemp(prefix="navbt-sweep-")
+        sub = os.path.join(_tree_dir, task.run_id)
+        os.makedirs(sub, exist_ok=True)
+        tree = tree_with_ports(task.tree, point, sub)
+        r = run_scenario(scenario, tree, config_path=task.config)
+        record.update(outcome=r.outcome, reason=r.reason or None, passed=int(r.passed),
+                      solved=int(r.solved), sim_time_s=round(r.sim_time, 6),
+                      recoveries=list(r.recoveries), n_recoveries=len(r.recoveries),
+                      contacts=int(r.collisions), path_length_m=round(r.distance, 6),
+                      goals_reached=int(r.goals_reached), goals_total=len(scenario.goals))
+    except Exception as e:  # noqa: BLE001 - one broken run is that run's error, never the sweep's
+        tb = traceback.extract_tb(e.__traceback__)
+        at = f" at {os.path.basename(tb[-1].filename)}:{tb[-1].lineno}" if tb else ""
+        record["error"] = f"{type(e).__name__}: {e}{at}"
+    timing = {"wall_time_s": round(time.perf_counter() - t0, 4),
+              "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    return record, timing
+
+
+def _error_record(task: RunTask, why: str) -> dict[str, Any]:
+    return {"run_id": task.run_id, "scenario": os.path.basename(task.scenario),
+            "seed": task.seed, "tree": os.path.splitext(os.path.basename(task.tree))[0],
+            "point": dict(task.point), "outcome": "error", "reason": None, "passed": 0,
+            "solved": 0, "sim_time_s": None, "recoveries": [], "n_recoveries": 0,
+            "contacts": None, "path_length_m": None, "goals_reached": None,
+            "goals_total": None, "error": why, "navbt_version": navbt_version()}
+
+
+# --------------------------------------------------------------------------- executors
+def run_serial(tasks: Iterable[RunTask], on_result: OnResult) -> None:
+    """In this process, one after another."""
+    for t in tasks:
+        record, timing = run_task(t)
+        on_result(t, record, timing)
+
+
+def run_pool(tasks: list[RunTask], jobs: int, on_result: OnResult) -> None:
+    """On a pool of ``jobs`` local processes. A worker that dies (killed, out of memory) breaks
+    the pool: a new pool takes over the unfinished runs; a run whose worker died
+    ``MAX_WORKER_DEATHS`` times is recorded as an error."""
+    import multiprocessing as mp
+    pending = list(tasks)
+    deaths: dict[str, int] = {}
+    ctx = mp.get_context("spawn")   # no fork of a process that holds threads and open files
+    while pending:
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx,
+                                 initializer=warm_worker) as pool:
+            queue = list(pending)
+            running: dict[Future, RunTask] = {}
+            broken = False
+            while (queue or running) and not broken:
+                while queue and len(running) < 2 * jobs:
+                    t = queue.pop(0)
+                    running[pool.submit(run_task, t)] = t
+                done, _ = wait(running, return_when=FIRST_COMPLETED)
+                for f in done:
+                    t = running.pop(f)
+                    try:
+                        record, timing = f.result()
+                    except BrokenProcessPool:
+                        broken = True
+                        deaths[t.run_id] = deaths.get(t.run_id, 0) + 1
+                        if deaths[t.run_id] >= MAX_WORKER_DEATHS:
+                            on_result(t, _error_record(t, "worker process died while running "
+                                                          "this run"), {"worker": "?"})
+                        continue
+                    pending.remove(t)
+                    on_result(t, record, timing)
+            if broken:
+                for f, t in running.items():   # the rest of the in-flight runs died with it
+                    if f.done() and not f.cancelled() and f.exception() is None:
+                        record, timing = f.result()
+                        pending.remove(t)
+                        on_result(t, record, timing)
+                pending = [t for t in pending if deaths.get(t.run_id, 0) < MAX_WORKER_DEATHS]
+                pool.shutdown(wait=False, cancel_futures=True)
+
+
+def dask_client(address: str, jobs: int) -> Any:
+    """A dask.distributed Client: ``local`` starts a LocalCluster of ``jobs`` single-threaded
+    worker processes on 127.0.0.1; anything else is a scheduler address (tcp://host:8786)."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise RuntimeError("--dask needs dask.distributed: pip install 'navbt[sweep]'") from None
+    if address == "local":
+        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None)
+        return Client(cluster)
+    return Client(address)
+
+
+def run_dask(tasks: list[RunTask], client: Any, on_result: OnResult) -> None:
+    """On a Dask cluster. Workers warm once (``client.run``); dask re-runs a task whose worker
+    died, and a task that keeps killing workers is recorded as an error."""
+    from dask.distributed import as_completed
+    client.run(warm_worker)
+    futures = client.map(run_task, tasks, pure=False)
+    by_key = {f.key: t for f, t in zip(futures, tasks)}
+    for f in as_completed(futures):
+        t = by_key[f.key]
+        try:
+            record, timing = f.result()
+        except Exception as e:  # noqa: BLE001 - KilledWorker and friends: that run's error
+            record, timing = _error_record(t, f"{type(e).__name__}: {e}"), {"worker": "?"}
+        on_result(t, record, timing)
+        f.release()
