@@ -174,7 +174,7 @@ def curve(stats: Sequence[PointStats], kx: str, path: str, title: str,
     (another parameter) or per tree."""
     series: dict[str, dict[Any, list[PointStats]]] = defaultdict(lambda: defaultdict(list))
     for s in stats:
-        label = f"{by}={_fmt(s.point[by])}" if by else s.tree
+        label = f"{by.split('.')[-1]}={_fmt(s.point[by])}" if by else s.tree
         series[label][s.point[kx]].append(s)
     xs = sorted({s.point[kx] for s in stats})
     lo_x, hi_x = float(xs[0]), float(xs[-1])
@@ -185,8 +185,10 @@ def curve(stats: Sequence[PointStats], kx: str, path: str, title: str,
     d.text((_M, 15), title, fill="black", font=_font(15))
     x0, x1, y0, y1 = _M, _W - _M - 120, _H - _M, _M
 
+    pad = 30   # keep the end points and their error bars off the axes
+
     def px(x: float) -> float:
-        return x0 + (float(x) - lo_x) / span * (x1 - x0)
+        return x0 + pad + (float(x) - lo_x) / span * (x1 - x0 - 2 * pad)
 
     def py(r: float) -> float:
         return y0 - r * (y0 - y1)
@@ -199,26 +201,38 @@ def curve(stats: Sequence[PointStats], kx: str, path: str, title: str,
     for x in xs:
         d.text((px(x), y0 + 8), _fmt(x), fill="black", font=f, anchor="mt")
     d.text(((x0 + x1) / 2, _H - 25), kx, fill="black", font=f, anchor="mm")
+    d.text((8, y1 - 30), "solved (95% CI)", fill="black", font=f)
     palette = [(31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
                (140, 86, 75), (227, 119, 194), (127, 127, 127)]
-    for n, (label, pts) in enumerate(sorted(series.items())):
+    for n, (label, pts) in enumerate(sorted(series.items(), key=lambda kv: _natural(kv[0]))):
         c = palette[n % len(palette)]
+        shift = 5 * (n - (len(series) - 1) / 2)   # side by side, so error bars do not hide
         line = []
         for x in sorted(pts):
             runs = sum(g.runs for g in pts[x])
             solved = sum(g.solved for g in pts[x])
             rate = solved / runs if runs else 0.0
             lo, hi = wilson(solved, runs)
-            line.append((px(x), py(rate)))
-            d.line([px(x), py(lo), px(x), py(hi)], fill=c, width=2)
-            d.line([px(x) - 4, py(lo), px(x) + 4, py(lo)], fill=c, width=2)
-            d.line([px(x) - 4, py(hi), px(x) + 4, py(hi)], fill=c, width=2)
-            d.ellipse([px(x) - 4, py(rate) - 4, px(x) + 4, py(rate) + 4], fill=c)
+            cx = px(x) + shift
+            line.append((cx, py(rate)))
+            d.line([cx, py(lo), cx, py(hi)], fill=c, width=2)
+            d.line([cx - 4, py(lo), cx + 4, py(lo)], fill=c, width=2)
+            d.line([cx - 4, py(hi), cx + 4, py(hi)], fill=c, width=2)
+            d.ellipse([cx - 4, py(rate) - 4, cx + 4, py(rate) + 4], fill=c)
         if len(line) > 1:
             d.line(line, fill=c, width=2)
         d.rectangle([x1 + 15, y1 + 20 * n, x1 + 27, y1 + 20 * n + 12], fill=c)
-        d.text((x1 + 32, y1 + 20 * n + 6), label[:22], fill="black", font=f, anchor="lm")
+        d.text((x1 + 32, y1 + 20 * n + 6), label[-24:], fill="black", font=f, anchor="lm")
     img.save(path)
+
+
+def _natural(label: str) -> tuple:
+    """Sort ``k=2.5`` before ``k=10``."""
+    head, _, value = label.rpartition("=")
+    try:
+        return head, float(value), ""
+    except ValueError:
+        return label, 0.0, value
 
 
 def write_report(records: Sequence[dict[str, Any]], out_dir: str, out: TextIO,
