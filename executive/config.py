@@ -14,16 +14,25 @@ import importlib
 import importlib.util
 import math
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path as FsPath
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
-from navcore.safe_read import load_yaml
 from navcore.params import Param, ParameterError, Parameters, suggest
+from navcore.safe_read import parse_yaml
+from executive.ros_params import (COSTMAP_IGNORED, COSTMAP_LAYER_IGNORED, LENIENCY, Note,
+                                  ParamsError, read_yaml)
 
 
 class ConfigError(ValueError):
-    """The robot config is unreadable or has a bad value; the message names file and namespace."""
+    """The robot config is unreadable or has bad values; the message lists every error, each
+    naming file (and line when known), namespace and parameter. ``notes`` holds every finding
+    (errors, warnings, ignored keys) of the load."""
+
+    def __init__(self, message: str, notes: list[Note] | None = None) -> None:
+        super().__init__(message)
+        self.notes = list(notes or [])
 
 
 DEFAULT_CONFIG = FsPath(__file__).resolve().parent / "data" / "robot.yaml"
@@ -103,8 +112,7 @@ COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
                       ("navcore.planners.carrot_planner", "PARAMS")),
     "DWAPlannerROS": (("navcore.controllers.dwa", "DWA_PARAMS"),
                       ("navcore.controllers.dwa", "PARAMS")),
-    "TrajectoryPlannerROS": (("navcore.controllers.trajectory_planner", "TRAJECTORY_PLANNER_PARAMS"),
-                             ("navcore.controllers.trajectory_planner", "PARAMS")),
+    "TrajectoryPlannerROS": (("navcore.controllers.trajectory_rollout", "TR_PARAMS"),),
     "amcl": (("navcore.localization.amcl_params", "AMCL_PARAMS"),),
 }
 
@@ -166,6 +174,8 @@ class RobotConfig:
     namespaces: dict[str, dict[str, Any]] = field(default_factory=dict)
     parameters: dict[str, Parameters] = field(default_factory=dict)
     devices: dict[str, Any] = field(default_factory=dict)  # robot.devices for hw.devices
+    origins: dict[tuple, str] = field(default_factory=dict)  # key path -> "file:line"
+    report: list[Note] = field(default_factory=list)  # warnings, notes, ignored keys of the load
 
     def ns(self, name: str) -> dict[str, Any]:
         """The user's values for a component namespace ({} when absent)."""
@@ -202,32 +212,195 @@ class RobotConfig:
         return out
 
 
-def _check_footprint(fp: list, where: str) -> None:
+def _check_footprint(fp: list, where: str) -> str | None:
+    """An error message for a bad footprint polygon, or None."""
     if fp == []:
-        return
+        return None
     if len(fp) < 3:
-        raise ConfigError(f"{where}: parameter 'footprint' needs at least 3 points, got {len(fp)}")
+        return f"{where}: parameter 'footprint' needs at least 3 points, got {len(fp)}"
     for i, p in enumerate(fp):
         if (not isinstance(p, (list, tuple)) or len(p) != 2
                 or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in p)):
-            raise ConfigError(f"{where}: parameter 'footprint' point {i} must be [x, y], got {p!r}")
+            return f"{where}: parameter 'footprint' point {i} must be [x, y], got {p!r}"
+    return None
 
 
-def _check_costmap(body: dict[str, Any], ns: str, robot: Parameters, source: str) -> None:
-    """Build the costmap once on a tiny map: every layer validates its own namespace."""
+def footprint_list(value: Any) -> Any:
+    """A footprint as ROS allows it (a list, or the string "[[x, y], ...]") as a list of [x, y];
+    anything unparsable is returned unchanged for the checks to report."""
+    if isinstance(value, str):
+        try:
+            parsed = parse_yaml(value, "footprint", error=ValueError)
+        except ValueError:
+            return value
+        return [] if parsed is None else parsed
+    return value
+
+
+class _Report:
+    """Findings of one load: errors name ``file:line`` of the value when it is known."""
+
+    def __init__(self, source: str, origins: Mapping[tuple, str], notes: list[Note]) -> None:
+        self.source = source
+        self.origins = dict(origins)
+        self.notes = notes
+
+    def where(self, path: tuple) -> str:
+        for n in range(len(path), 0, -1):
+            if path[:n] in self.origins:
+                return self.origins[path[:n]]
+        return self.source
+
+    def add(self, level: str, path: tuple, text: str) -> None:
+        self.notes.append(Note(level, self.where(path), text))
+
+    def errors(self) -> list[Note]:
+        return [n for n in self.notes if n.level == "error"]
+
+
+_ERROR_PATH = re.compile(r"^(?:.*: )?([\w./-]+): (?:unknown parameter|parameter) '([^']+)'")
+_UNLISTED_SOURCE = re.compile(r"^([\w/]+): namespace '([^']+)' is not listed in "
+                              r"observation_sources")
+
+
+def _checked(ns: str, specs: tuple[Param, ...], body: Mapping[str, Any], report: _Report,
+             ignore: Iterable[str] = STRUCTURAL_KEYS) -> Parameters:
+    """Parameters of ``specs`` from ``body``; every bad key is reported (not only the first)
+    and left at its default."""
+    good: dict[str, Any] = {}
+    by_name = {s.name: s for s in specs}
+    for key, value in body.items():
+        if key in ignore:
+            continue
+        where = report.where((ns, key))
+        spec = by_name.get(key)
+        extra = LENIENCY[ns].known() if ns in LENIENCY else ()
+        if spec is None:
+            report.notes.append(Note("error", where, f"{ns}: unknown parameter '{key}'"
+                                     f"{suggest(str(key), tuple(by_name) + extra)}"))
+            continue
+        try:
+            good[key] = spec.check(value, ns)
+        except ParameterError as e:
+            report.notes.append(Note("error", where, str(e)))
+    return Parameters(specs, good, where=f"{report.source}: {ns}", ignore=ignore)
+
+
+def _lenient(ns: str, body: dict[str, Any], report: _Report) -> dict[str, Any]:
+    """``body`` with ROS's own leniency for ``ns`` applied (renames, clamps, ignored keys). A
+    clamp that would still leave the value unacceptable here is not applied: the error then
+    names the value the user wrote."""
+    if ns not in LENIENCY:
+        return body
+    out, found = LENIENCY[ns].apply(body)
+    specs = {s.name: s for s in (specs_for(ns) or ())}
+    for level, key, text in found:
+        new = LENIENCY[ns].renamed.get(key)
+        if new is not None and (ns, key) in report.origins:
+            report.origins.setdefault((ns, new), report.origins[(ns, key)])
+        if "clamped" in text and key in specs and key in body:
+            try:
+                specs[key].check(out[key])
+            except ParameterError:
+                out[key] = body[key]
+                continue
+        report.add(level, (ns, key), f"{ns}: {text}")
+    return out
+
+
+def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, Any]:
+    """The costmap namespace without what ROS accepts there but navbt has no use for: keys of
+    COSTMAP_IGNORED, layer namespaces that 'plugins' does not list, layer keys ROS ignores."""
+    out = dict(body)
+    plugins = out.get("plugins")
+    if isinstance(plugins, (list, tuple)):
+        names = {str(p["name"]) if isinstance(p, Mapping) else str(p) for p in plugins}
+        for key, value in body.items():
+            if key in COSTMAP_IGNORED:
+                if key in ("static_map", "map_type"):
+                    report.add("ignored", (ns, key), f"{ns}: '{key}' has no effect when "
+                               "'plugins' is given (as in costmap_2d)")
+                else:
+                    report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
+                out.pop(key)
+            elif isinstance(value, Mapping) and key not in names and key != "footprint":
+                report.add("note", (ns, key), f"{ns}: layer namespace '{key}' is not in "
+                           f"'plugins' ({', '.join(sorted(names))}), so it is not used (ROS "
+                           "ignores it too)")
+                out.pop(key)
+        for name in names:
+            layer = out.get(name)
+            if isinstance(layer, Mapping):
+                layer = dict(layer)
+                for key in [k for k in layer if k in COSTMAP_LAYER_IGNORED]:
+                    report.add("ignored", (ns, name, key), f"{ns}/{name}: '{key}': "
+                               f"{COSTMAP_LAYER_IGNORED[key]}")
+                    layer.pop(key)
+                out[name] = layer
+    else:
+        for key in ("publish_voxel_map", "map_topic", "inscribed_radius", "circumscribed_radius"):
+            if key in out and key in COSTMAP_IGNORED and key != "publish_voxel_map":
+                report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
+                out.pop(key)
+    return out
+
+
+def _drop(body: dict[str, Any], path: tuple) -> bool:
+    d: Any = body
+    for part in path[:-1]:
+        if not isinstance(d, dict) or part not in d:
+            return False
+        d = d[part]
+    if isinstance(d, dict) and path[-1] in d:
+        d.pop(path[-1])
+        return True
+    return False
+
+
+def _deep_copy(body: Any) -> Any:
+    if isinstance(body, Mapping):
+        return {k: _deep_copy(v) for k, v in body.items()}
+    return body
+
+
+def _check_costmap(body: dict[str, Any], ns: str, footprint: list, radius: float,
+                   report: _Report) -> dict[str, Any]:
+    """Build the costmap once on a tiny map: every layer validates its own namespace. Each
+    error is reported and its key left out for another try, so that all of them are listed.
+    Returns the namespace to build the real costmap from."""
+    body = _costmap_body(body, ns, report)
     if importlib.util.find_spec("navcore.costmap.layered") is None:
-        return  # the costmap component is not installed: nothing to check against
+        return body  # the costmap component is not installed: nothing to check against
     from navcore.maps import OccupancyGrid
     import numpy as np
-    trial = dict(body)
-    if robot.footprint:
-        trial.setdefault("footprint", robot.footprint)
-    else:
-        trial.setdefault("robot_radius", robot.robot_radius)
-    try:
-        make_costmap(trial, OccupancyGrid(np.zeros((4, 4)), 0.05), ns)
-    except (ParameterError, ValueError, KeyError) as e:
-        raise ConfigError(f"{source}: {e}") from None
+    trial = _deep_copy(body)
+    if "footprint" not in trial and "robot_radius" not in trial:
+        if footprint:
+            trial["footprint"] = footprint
+        else:
+            trial["robot_radius"] = radius
+    for _ in range(50):
+        try:
+            cm = make_costmap(trial, OccupancyGrid(np.zeros((4, 4)), 0.05), ns)
+        except (ParameterError, ValueError, KeyError) as e:
+            text = str(e)
+            unlisted = _UNLISTED_SOURCE.match(text)
+            if unlisted:
+                parts = tuple(unlisted.group(1).split("/")) + (unlisted.group(2),)
+                report.add("note", parts, f"{text} (ROS ignores it too)")
+                _drop(trial, parts[1:])
+                _drop(body, parts[1:])
+                continue
+            m = _ERROR_PATH.match(text)
+            parts = (tuple(m.group(1).split(".")[0].split("/")) + (m.group(2),)) if m else (ns,)
+            report.add("error", parts, text)
+            if not m or parts[0] != ns or not _drop(trial, parts[1:]):
+                break
+            continue
+        for w in getattr(cm, "warnings", []):
+            report.add("ignored", (ns,), w)
+        break
+    return body
 
 
 def make_costmap(params: dict[str, Any], grid: Any, name: str, clock: Any = None) -> Any:
@@ -241,8 +414,56 @@ def make_costmap(params: dict[str, Any], grid: Any, name: str, clock: Any = None
     return LayeredCostmap.from_params(params, static_map=grid, name=name, clock=clock)
 
 
-def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> RobotConfig:
-    """Validate a parsed robot config; raise ConfigError naming source, namespace and parameter."""
+def _footprint_of(body: Mapping[str, Any]) -> tuple[list, float] | None:
+    """(polygon, radius) a costmap namespace declares, or None when it declares neither."""
+    fp = footprint_list(body.get("footprint")) if "footprint" in body else None
+    if isinstance(fp, list) and fp:
+        return fp, 0.0
+    r = body.get("robot_radius")
+    if isinstance(r, (int, float)) and not isinstance(r, bool) and r > 0:
+        return [], float(r)
+    return None
+
+
+def _resolve_footprint(doc: Mapping[str, Any], robot: dict[str, Any], report: _Report) -> None:
+    """One footprint: robot.footprint / robot_radius when given, else the local costmap's, else
+    the global costmap's (ROS puts it there), so the simulated body, the costmaps and the
+    recoveries all use the same outline."""
+    if "footprint" in robot:
+        robot["footprint"] = footprint_list(robot["footprint"])
+        return
+    if "robot_radius" in robot:
+        robot["footprint"] = []
+        return
+    for cm in ("local_costmap", "global_costmap"):
+        body = doc.get(cm)
+        found = _footprint_of(body) if isinstance(body, Mapping) else None
+        if found is None:
+            continue
+        fp, r = found
+        key = "footprint" if fp else "robot_radius"
+        robot["footprint"] = fp
+        if not fp:
+            robot["robot_radius"] = r
+        report.origins.setdefault(("robot", "footprint"), report.where((cm, key)))
+        other = "global_costmap" if cm == "local_costmap" else None
+        if other and isinstance(doc.get(other), Mapping):
+            theirs = _footprint_of(doc[other])
+            if theirs is not None and theirs != found:
+                report.add("warning", (other, key), f"{other} declares another footprint than "
+                           f"{cm}; the robot's body and recoveries use {cm}'s")
+        return
+
+
+def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
+                        origins: Mapping[tuple, str] | None = None,
+                        notes: list[Note] | None = None) -> RobotConfig:
+    """Validate a parsed robot config; raise ConfigError listing every error (each naming
+    file:line when ``origins`` knows it, else ``source``, with namespace and parameter).
+
+    ``origins`` maps key paths (``("DWAPlannerROS", "vy_samples")``) to ``file:line``;
+    ``notes`` are findings from reading the sources, kept in the config's ``report``."""
+    report = _Report(source, origins or {}, list(notes or []))
     if doc is None:
         doc = {}
     if not isinstance(doc, Mapping):
@@ -254,74 +475,178 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>") -> Rob
     raw: dict[str, dict[str, Any]] = {}
     for ns, body in doc.items():
         if ns not in known:
-            raise ConfigError(f"{source}: unknown namespace '{ns}'{suggest(str(ns), known)}")
+            report.add("error", (ns,), f"unknown namespace '{ns}'{suggest(str(ns), known)}")
+            continue
         if body is None:
             body = {}
         if not isinstance(body, Mapping):
-            raise ConfigError(f"{source}: {ns}: must be a mapping of parameters, got {body!r}")
-        body = dict(body)
+            report.add("error", (ns,), f"{ns}: must be a mapping of parameters, got {body!r}")
+            continue
+        body = _lenient(ns, dict(body), report)
         if ns == "robot" and isinstance(body.get("devices"), Mapping):
             # devices: {base: URL, laser: URL, imu: ...} (hw/devices.py) means real hardware
             dev = dict(body.pop("devices"))
             body["devices"] = "hw"
             for k, v in dev.items():
                 if k not in ("base", "laser", "imu"):
-                    raise ConfigError(f"{source}: robot: devices: unknown device '{k}'"
-                                      f"{suggest(str(k), ('base', 'laser', 'imu'))}")
+                    report.add("error", (ns, "devices", k), f"robot: devices: unknown device "
+                               f"'{k}'{suggest(str(k), ('base', 'laser', 'imu'))}")
+                    continue
                 if k in ("base", "laser"):
                     body[k] = v if isinstance(v, str) else str(dict(v).get("url", ""))
             device_map = dev
+        if ns == "robot":
+            _resolve_footprint(doc, body, report)
         raw[ns] = body
-        if ns == SIM_NAMESPACE:
+        if ns in (SIM_NAMESPACE, "global_costmap", "local_costmap"):
             continue  # checked below, once the footprint is known
-        if ns in ("global_costmap", "local_costmap"):
-            continue  # checked below, with the footprint
         specs = specs_for(ns)
         if specs is None:
             continue  # component not installed: its own constructor validates when built
-        try:
-            values[ns] = Parameters(specs, body, where=f"{source}: {ns}", ignore=STRUCTURAL_KEYS)
-        except ParameterError as e:
-            raise ConfigError(str(e)) from None
+        values[ns] = _checked(ns, specs, body, report)
+    if "robot" not in raw:
+        robot_body: dict[str, Any] = {}
+        _resolve_footprint(doc, robot_body, report)
+        if robot_body:
+            raw["robot"] = robot_body
+            values["robot"] = _checked("robot", ROBOT_PARAMS, robot_body, report)
     for ns in OWN_NAMESPACES:
         if ns not in values:
             values[ns] = Parameters(OWN_NAMESPACES[ns], {}, where=f"{source}: {ns}")
-    _check_footprint(values["robot"].footprint, f"{source}: robot")
-    if not values["robot"].footprint and values["robot"].robot_radius <= 0:
-        raise ConfigError(f"{source}: robot: give a footprint or a robot_radius > 0")
-    if values["robot"].devices not in ("sim", "hw"):
-        raise ConfigError(f"{source}: robot: parameter 'devices' must be 'sim', 'hw' or a mapping "
-                          f"{{base: URL, laser: URL}}, got {values['robot'].devices!r}")
+    robot = values["robot"]
+    bad = _check_footprint(robot.footprint, "robot")
+    if bad:
+        report.add("error", ("robot", "footprint"), bad)
+    elif not robot.footprint and robot.robot_radius <= 0:
+        report.add("error", ("robot",), "robot: give a footprint or a robot_radius > 0")
+    if robot.devices not in ("sim", "hw"):
+        report.add("error", ("robot", "devices"), f"robot: parameter 'devices' must be 'sim', "
+                   f"'hw' or a mapping {{base: URL, laser: URL}}, got {robot.devices!r}")
     raw.setdefault(SIM_NAMESPACE, {})
     sim_values = dict(raw[SIM_NAMESPACE])
-    sim_values.setdefault("footprint", values["robot"].footprint)
-    if not values["robot"].footprint:
-        sim_values.setdefault("robot_radius", values["robot"].robot_radius)
+    sim_values.setdefault("footprint", robot.footprint)
+    if not robot.footprint:
+        sim_values.setdefault("robot_radius", robot.robot_radius)
     raw[SIM_NAMESPACE] = sim_values
     try:
         from hw.sim.config import robot_config
     except ImportError:
         robot_config = None
-    if robot_config is not None:
+    if robot_config is not None and not bad:
         try:
             robot_config(sim_values)
         except (ParameterError, ValueError) as e:
-            raise ConfigError(f"{source}: {e}") from None
+            m = _ERROR_PATH.match(str(e))
+            path = tuple(m.group(1).split(".")[1:]) + (m.group(2),) if m else ()
+            report.add("error", (SIM_NAMESPACE,) + path, str(e))
     for ns in ("global_costmap", "local_costmap"):
         if ns in raw:
-            _check_costmap(raw[ns], ns, values["robot"], source)
+            raw[ns] = _check_costmap(raw[ns], ns, robot.footprint, robot.robot_radius, report)
+    errors = report.errors()
+    if errors:
+        raise ConfigError("\n".join(str(n) for n in errors), report.notes)
     component_params = {ns: p for ns, p in values.items() if ns not in OWN_NAMESPACES}
     return RobotConfig(source, values["robot"], values["move_base"], values["safety"], raw,
-                       component_params, device_map)
+                       component_params, device_map, report.origins, report.notes)
 
 
 def load_config(path: str | os.PathLike | None = None) -> RobotConfig:
     """Read and validate a robot config YAML (the bundled default when ``path`` is None)."""
     path = FsPath(path) if path is not None else DEFAULT_CONFIG
-    return config_from_mapping(read_config_doc(path), str(path))
+    doc, origins = read_config_lines(path)
+    return config_from_mapping(doc, str(path), origins)
 
 
 def read_config_doc(path: str | os.PathLike) -> Any:
     """The YAML document of a robot config file, not yet validated (ConfigError names the file
     and line when it cannot be read or parsed)."""
-    return load_yaml(path, what="robot config", error=ConfigError)
+    return read_config_lines(path)[0]
+
+
+def read_config_lines(path: str | os.PathLike) -> tuple[Any, dict[tuple, str]]:
+    """The YAML document of a robot config file and the ``file:line`` of each of its keys."""
+    doc, lines = read_yaml(path, what="robot config", error=ConfigError)
+    return doc, {k: f"{path}:{n}" for k, n in lines.items()}
+
+
+@dataclass
+class ConfigSources:
+    """Where a robot config comes from: a navbt robot YAML and/or ROS files.
+
+    Merged in this order, later values winning key by key as rosparam merges: ``config`` (the
+    bundled robot when nothing else is given), the ``launch`` file with its ``args``, each
+    ``params`` entry (``FILE[:NAMESPACE]``, into the move_base node), each ``nav2_params`` file.
+    ``package_path``: folders where ``$(find pkg)`` looks first (then the launch file's folder
+    and its parents, then ROS_PACKAGE_PATH)."""
+
+    config: str | None = None
+    launch: str | None = None
+    args: dict[str, str] = field(default_factory=dict)
+    params: list[str] = field(default_factory=list)
+    nav2_params: list[str] = field(default_factory=list)
+    package_path: list[str] = field(default_factory=list)
+
+    def has_ros(self) -> bool:
+        return bool(self.launch or self.params or self.nav2_params)
+
+    def describe(self) -> str:
+        parts = [self.config] if self.config else []
+        if self.launch:
+            args = " ".join(f"{k}:={v}" for k, v in self.args.items())
+            parts.append(self.launch + (f" {args}" if args else ""))
+        parts += list(self.params) + list(self.nav2_params)
+        return " + ".join(parts) if parts else str(DEFAULT_CONFIG)
+
+
+def _merge(doc: dict[str, Any], origins: dict[tuple, str], add: Mapping[str, Any],
+           add_origins: Mapping[tuple, str], path: tuple = ()) -> None:
+    """Merge ``add`` into ``doc`` key by key (mappings recursively), as rosparam does."""
+    for k, v in add.items():
+        p = path + (k,)
+        if isinstance(v, Mapping) and isinstance(doc.get(k), dict):
+            _merge(doc[k], origins, v, add_origins, p)
+        else:
+            doc[k] = _deep_copy(v)
+            for op in [op for op in origins if op[:len(p)] == p]:
+                del origins[op]
+        for op, o in add_origins.items():
+            if op[:len(p)] == p and (op not in origins or op == p):
+                origins[op] = o
+
+
+def load_config_sources(sources: ConfigSources) -> RobotConfig:
+    """Read every source, merge them and validate once; ConfigError lists every error."""
+    from executive.ros_params import Converted, ParamTree, load_params_file, move_base_to_config
+    doc: dict[str, Any] = {}
+    origins: dict[tuple, str] = {}
+    notes: list[Note] = []
+    if sources.config or not sources.has_ros():
+        base, base_origins = read_config_lines(sources.config or DEFAULT_CONFIG)
+        if base is not None and not isinstance(base, Mapping):
+            raise ConfigError(f"{sources.config}: the robot config must be a mapping of "
+                              f"namespaces, got {type(base).__name__}")
+        _merge(doc, origins, base or {}, base_origins)
+    try:
+        if sources.launch or sources.params:
+            tree, node_ns, amcl_ns = ParamTree(), ("move_base",), ("amcl",)
+            if sources.launch:
+                from executive.ros_launch import read_launch
+                launched = read_launch(sources.launch, sources.args, sources.package_path)
+                tree = launched.tree
+                node_ns = launched.move_base_ns or node_ns
+                amcl_ns = launched.amcl_ns or amcl_ns
+                notes += launched.notes
+            for spec in sources.params:
+                load_params_file(tree, spec, node_ns)
+            converted = move_base_to_config(tree, node_ns, amcl_ns)
+            _merge(doc, origins, converted.doc, converted.origins)
+            notes += converted.notes
+        for path in sources.nav2_params:
+            from executive.nav2_params import read_nav2_params
+            converted = read_nav2_params(path)
+            _merge(doc, origins, converted.doc, converted.origins)
+            notes += converted.notes
+    except ParamsError as e:
+        raise ConfigError(str(e), notes) from None
+    # errors found while reading the sources are in ``notes``: raised with the others
+    return config_from_mapping(doc, sources.describe(), origins, notes)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 import difflib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping
 
 
@@ -83,10 +83,85 @@ class Param:
         return value
 
 
+# Words that mean the same in ROS parameter names (``max_rot_vel`` is ``max_vel_theta``): a
+# suggestion compares names by these words as well as by spelling.
+_SYNONYMS = {"rot": "theta", "rotational": "theta", "th": "theta", "yaw": "theta",
+             "velocity": "vel", "speed": "vel", "limit": "lim", "accel": "acc",
+             "trans": "trans", "translational": "trans", "dist": "distance", "pdist": "path",
+             "gdist": "goal"}
+
+
+def _words(name: str) -> set[str]:
+    return {_SYNONYMS.get(w, w) for w in name.lower().split("_") if w}
+
+
+def _similarity(a: str, b: str) -> float:
+    """The better of spelling similarity and shared words (same words in any order: 1.0)."""
+    spelled = difflib.SequenceMatcher(None, a, b).ratio()
+    wa, wb = _words(a), _words(b)
+    shared = len(wa & wb) / len(wa | wb) if wa | wb else 0.0
+    return max(spelled, shared)
+
+
 def suggest(name: str, known: Iterable[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest known name, or an empty string."""
-    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
-    return f" (did you mean '{close[0]}'?)" if close else ""
+    scored = [(_similarity(name, k), k) for k in known]
+    scored = [sk for sk in scored if sk[0] >= 0.6]
+    if not scored:
+        return ""
+    best = max(scored, key=lambda sk: sk[0])[1]
+    return f" (did you mean '{best}'?)"
+
+
+@dataclass(frozen=True)
+class Leniency:
+    """What a component's original (ROS) implementation tolerates in its parameter namespace.
+
+    ``renamed``: old name -> current name, still accepted (with a warning naming the new one);
+    ``clamps``: name -> (low, high) that out-of-range values are clamped to (with a warning), as
+    dynamic_reconfigure does; ``ignored``: name -> why it has no effect here (accepted with a
+    note). Everything else stays strict: the ``Param`` table decides.
+    """
+
+    renamed: Mapping[str, str] = field(default_factory=dict)
+    clamps: Mapping[str, tuple[float | None, float | None]] = field(default_factory=dict)
+    ignored: Mapping[str, str] = field(default_factory=dict)
+
+    def apply(self, values: Mapping[str, Any]) -> tuple[dict[str, Any], list[tuple[str, str, str]]]:
+        """``values`` with old names renamed, ignored names dropped and values clamped; plus
+        (level, name, message) for each change, level "warning" or "ignored"."""
+        out: dict[str, Any] = {}
+        notes: list[tuple[str, str, str]] = []
+        for name, value in values.items():
+            if name in self.renamed:
+                new = self.renamed[name]
+                if new in values:
+                    notes.append(("warning", name, f"'{name}' is the deprecated name of '{new}', "
+                                  f"which is also given: '{name}' is ignored"))
+                    continue
+                notes.append(("warning", name, f"'{name}' is deprecated: use '{new}' (the "
+                              f"value is used as '{new}')"))
+                name = new
+            elif name in self.ignored:
+                notes.append(("ignored", name, f"'{name}': {self.ignored[name]}"))
+                continue
+            out[name] = value
+        for name, (lo, hi) in self.clamps.items():
+            v = out.get(name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            c = v if lo is None or v >= lo else type(v)(lo)
+            c = c if hi is None or c <= hi else type(v)(hi)
+            if c != v:
+                notes.append(("warning", name, f"'{name}' = {v!r} is clamped to {c!r}, as ROS "
+                              f"does (range {lo if lo is not None else '-inf'} .. "
+                              f"{hi if hi is not None else 'inf'})"))
+                out[name] = c
+        return out, notes
+
+    def known(self) -> tuple[str, ...]:
+        """Names this leniency accepts besides the Param table's (for suggestions)."""
+        return tuple(self.renamed) + tuple(self.ignored)
 
 
 class Parameters:
