@@ -25,6 +25,8 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
                            "one"),
     "tune": ("tune_cmd", "search parameters with Optuna for the best success rate over "
                          "scenarios"),
+    "config": ("config_cmd", "check a robot config (navbt YAML, roslaunch, rosparam or Nav2 "
+                             "files): merged values with their origin, every error at once"),
     "map-info": ("map_info_cmd", "load a map_server map and print its size and cell counts"),
 }
 

@@ -524,6 +524,8 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
                    f"'hw' or a mapping {{base: URL, laser: URL}}, got {robot.devices!r}")
     raw.setdefault(SIM_NAMESPACE, {})
     sim_values = dict(raw[SIM_NAMESPACE])
+    if "footprint" not in sim_values and ("robot", "footprint") in report.origins:
+        report.origins[(SIM_NAMESPACE, "footprint")] = report.origins[("robot", "footprint")]
     sim_values.setdefault("footprint", robot.footprint)
     if not robot.footprint:
         sim_values.setdefault("robot_radius", robot.robot_radius)
@@ -614,9 +616,11 @@ def _merge(doc: dict[str, Any], origins: dict[tuple, str], add: Mapping[str, Any
                 origins[op] = o
 
 
-def load_config_sources(sources: ConfigSources) -> RobotConfig:
-    """Read every source, merge them and validate once; ConfigError lists every error."""
-    from executive.ros_params import Converted, ParamTree, load_params_file, move_base_to_config
+def merged_doc(sources: ConfigSources) -> tuple[dict[str, Any], dict[tuple, str], list[Note]]:
+    """Every source read and merged into one navbt config document, not yet validated: the
+    document, the ``file:line`` of each key and the findings of reading (ConfigError when a
+    file cannot be read at all)."""
+    from executive.ros_params import ParamTree, load_params_file, move_base_to_config
     doc: dict[str, Any] = {}
     origins: dict[tuple, str] = {}
     notes: list[Note] = []
@@ -648,5 +652,11 @@ def load_config_sources(sources: ConfigSources) -> RobotConfig:
             notes += converted.notes
     except ParamsError as e:
         raise ConfigError(str(e), notes) from None
-    # errors found while reading the sources are in ``notes``: raised with the others
+    return doc, origins, notes
+
+
+def load_config_sources(sources: ConfigSources) -> RobotConfig:
+    """Read every source, merge them and validate once; ConfigError lists every error (those
+    found while reading the sources too)."""
+    doc, origins, notes = merged_doc(sources)
     return config_from_mapping(doc, sources.describe(), origins, notes)

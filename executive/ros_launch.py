@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 from xml.parsers import expat
@@ -241,7 +241,7 @@ class _Reader:
         unused = sorted(set(ctx.overrides) - ctx.used)
         for name in unused:
             self.error(where or file, f"arg '{name}' is given but {file} declares no such arg"
-                                      f"{suggest(name, ctx.args)}")
+                                      f"{suggest(name, set(ctx.args) | ctx.failed)}")
         self.depth -= 1
 
     def children(self, el: _Elem, ctx: _Context) -> None:
@@ -261,8 +261,7 @@ class _Reader:
             return
         if tag == "group":
             ns = self.attr(el, "ns", ctx)
-            sub = _Context(ctx.file, self.resolve(ns, ctx, where) if ns else ctx.ns, ctx.args,
-                           ctx.overrides, ctx.used, ctx.node)
+            sub = replace(ctx, ns=self.resolve(ns, ctx, where) if ns else ctx.ns)
             if el.attrs.get("clear_params", "false").lower() in ("true", "1") and ns:
                 self.tree.delete(sub.ns)
             self.children(el, sub)
@@ -326,7 +325,7 @@ class _Reader:
         self.nodes.append(info)
         if el.attrs.get("clear_params", "false").lower() in ("true", "1"):
             self.tree.delete(info.ns)
-        sub = _Context(ctx.file, base, ctx.args, ctx.overrides, ctx.used, info)
+        sub = replace(ctx, ns=base, node=info)
         self.children(el, sub)
 
     def param(self, el: _Elem, ctx: _Context, where: str) -> None:

@@ -226,7 +226,8 @@ LENIENCY: dict[str, Leniency] = {
                  "acc_limit_trans": "acc_lim_trans", "rot_stopped_vel": "theta_stopped_vel",
                  # base_local_planner's old names, still met in DWA files copied from TR ones
                  "pdist_scale": "path_distance_bias", "gdist_scale": "goal_distance_bias",
-                 "acc_lim_th": "acc_lim_theta"},
+                 "acc_lim_th": "acc_lim_theta", "max_vel_rot": "max_vel_theta",
+                 "min_vel_rot": "min_vel_theta"},
         clamps={"sim_time": (0.0, None), "sim_granularity": (0.0, None),
                 "angular_sim_granularity": (0.0, None), "path_distance_bias": (0.0, None),
                 "goal_distance_bias": (0.0, None), "occdist_scale": (0.0, None),
@@ -260,23 +261,16 @@ LENIENCY: dict[str, Leniency] = {
                      point_grid="the freespace controller's grid (world_model: costmap only)",
                      max_rotational_vel="read by noetic but overridden by max_vel_theta "
                                         "(dynamic_reconfigure)")),
-    "NavfnROS": Leniency(ignored={"visualize_potential": _PUBLISH_ONLY,
-                                  "planner_window_x": "navfn's planning window; unused by ROS "
-                                                      "too (0 = whole map)",
-                                  "planner_window_y": "navfn's planning window; unused by ROS "
-                                                      "too (0 = whole map)"}),
     "GlobalPlanner": Leniency(
         clamps={"lethal_cost": (1, 255), "neutral_cost": (1, 255), "cost_factor": (0.01, 5.0),
-                "orientation_mode": (0, 6)},
-        ignored={"publish_potential": _PUBLISH_ONLY, "visualize_potential": _PUBLISH_ONLY,
-                 "planner_window_x": "unused by ROS too", "planner_window_y": "unused by ROS too",
-                 "publish_scale": _PUBLISH_ONLY}),
+                "orientation_mode": (0, 6)}),
     "move_base": Leniency(
         clamps={"planner_frequency": (0.0, 100.0), "controller_frequency": (0.0, 100.0),
                 "planner_patience": (0.0, 100.0), "controller_patience": (0.0, 100.0),
                 "max_planning_retries": (-1, 1000), "conservative_reset_dist": (0.0, 50.0),
                 "oscillation_timeout": (0.0, 60.0), "oscillation_distance": (0.0, 10.0)},
-        ignored={"restore_defaults": _RECONF}),
+        ignored={"restore_defaults": _RECONF},
+        misspelled={"recovery_behaviour_enabled": "recovery_behavior_enabled"}),
     "amcl": Leniency(
         renamed={"beam_skip_error_threshold_": "beam_skip_error_threshold"},
         ignored={"force_update_after_initialpose": "a new initial pose is always used here",
@@ -388,7 +382,7 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
                 continue
             out.put((key,), dict(value), where)
             _copy_origins(tree, path, out, (key,))
-        elif key in move_base_names or key in lenient.ignored or key in lenient.clamps:
+        elif key in move_base_names or key in lenient.known():
             out.put(("move_base", key), value, where)
         elif key in SEARCHED_BY_COSTMAPS:
             searched[key] = (value, where)

@@ -362,18 +362,21 @@ def check_expectation(e: Expectation, outcome: str, sim_time: float, fired_types
     return failures
 
 
-def scenario_config(scenario: Scenario, base: str | None = None) -> Any:
-    """The robot config for a scenario: the base config with its robot/params overrides."""
-    from executive.config import DEFAULT_CONFIG, config_from_mapping, read_config_doc
-    base_path = base or str(DEFAULT_CONFIG)
-    doc = read_config_doc(base_path) or {}
+def scenario_config(scenario: Scenario, base: Any = None) -> Any:
+    """The robot config for a scenario: the base config (a robot YAML path, or the
+    ``ConfigSources`` of ROS files) with its robot/params overrides."""
+    from executive.config import ConfigSources, config_from_mapping, merged_doc
+    sources = base if isinstance(base, ConfigSources) else ConfigSources(config=base)
+    doc, origins, notes = merged_doc(sources)
     doc.setdefault("robot", {})
     doc["robot"] = dict(doc["robot"] or {}, **scenario.robot)
     for ns, values in scenario.params.items():
         if not isinstance(values, Mapping):
             raise ScenarioError(f"{scenario.source}: params: {ns}: expected a mapping")
         doc[ns] = dict(doc.get(ns) or {}, **values)
-    return config_from_mapping(doc, f"{scenario.source} (over {os.path.basename(base_path)})")
+    base_name = os.path.basename(sources.config) if sources.config else (
+        sources.describe() if sources.has_ros() else "robot.yaml")
+    return config_from_mapping(doc, f"{scenario.source} (over {base_name})", origins, notes)
 
 
 def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = None,

@@ -120,12 +120,15 @@ class Leniency:
     ``renamed``: old name -> current name, still accepted (with a warning naming the new one);
     ``clamps``: name -> (low, high) that out-of-range values are clamped to (with a warning), as
     dynamic_reconfigure does; ``ignored``: name -> why it has no effect here (accepted with a
-    note). Everything else stays strict: the ``Param`` table decides.
+    note); ``misspelled``: a misspelling the original silently does not read -> the name it
+    reads (accepted with a warning; the value is not used, as in the original). Everything
+    else stays strict: the ``Param`` table decides.
     """
 
     renamed: Mapping[str, str] = field(default_factory=dict)
     clamps: Mapping[str, tuple[float | None, float | None]] = field(default_factory=dict)
     ignored: Mapping[str, str] = field(default_factory=dict)
+    misspelled: Mapping[str, str] = field(default_factory=dict)
 
     def apply(self, values: Mapping[str, Any]) -> tuple[dict[str, Any], list[tuple[str, str, str]]]:
         """``values`` with old names renamed, ignored names dropped and values clamped; plus
@@ -135,8 +138,8 @@ class Leniency:
         for name, value in values.items():
             if name in self.renamed:
                 new = self.renamed[name]
-                if new in values:
-                    notes.append(("warning", name, f"'{name}' is the deprecated name of '{new}', "
+                if new in values or new in out:
+                    notes.append(("warning", name, f"'{name}' is a deprecated name of '{new}', "
                                   f"which is also given: '{name}' is ignored"))
                     continue
                 notes.append(("warning", name, f"'{name}' is deprecated: use '{new}' (the "
@@ -144,6 +147,11 @@ class Leniency:
                 name = new
             elif name in self.ignored:
                 notes.append(("ignored", name, f"'{name}': {self.ignored[name]}"))
+                continue
+            elif name in self.misspelled:
+                notes.append(("warning", name, f"'{name}' is not read (a misspelling of "
+                              f"'{self.misspelled[name]}'?): its value is not used, as in "
+                              "the original"))
                 continue
             out[name] = value
         for name, (lo, hi) in self.clamps.items():
@@ -161,7 +169,7 @@ class Leniency:
 
     def known(self) -> tuple[str, ...]:
         """Names this leniency accepts besides the Param table's (for suggestions)."""
-        return tuple(self.renamed) + tuple(self.ignored)
+        return tuple(self.renamed) + tuple(self.ignored) + tuple(self.misspelled)
 
 
 class Parameters:

@@ -125,7 +125,7 @@ def test_run_broken_map_and_config(tmp_path, capsys):
     code, _, err = run_cli(capsys, "run", "trees/x.yaml", "--config", str(cfg),
                            "--map", str(bad_map), "--goal", "1,1,0")
     assert code == 1
-    assert err.strip() == (f"mission run: {cfg}: move_base: parameter 'controller_frequency' = "
+    assert err.strip() == (f"mission run: {cfg}:1: move_base: parameter 'controller_frequency' = "
                            "0.0 is below its minimum 0.1")
 
 

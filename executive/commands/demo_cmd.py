@@ -13,6 +13,8 @@ import argparse
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tree", help="tree to run (default: the shipped smach_recovery.yaml)")
     p.add_argument("--out", help="run folder (default: ./mission-demo-<n>)")
+    from executive.commands._common import add_config_arguments
+    add_config_arguments(p, "robot config YAML (default: the bundled robot)")
 
 
 def _fresh_dir(base: str) -> str:
@@ -26,7 +28,8 @@ def _fresh_dir(base: str) -> str:
 def run(args: argparse.Namespace) -> int:
     import os
 
-    from executive.commands._common import fail
+    from executive.commands._common import config_sources, fail
+    from executive.config import ConfigError
     from executive.loading import TreeLoadError, shipped_tree
     from executive.mission import WiringError, progress_callback
     from executive.progress import Progress
@@ -38,9 +41,9 @@ def run(args: argparse.Namespace) -> int:
     progress = Progress()
     print(f"demo: {scenario.description.splitlines()[0] if scenario.description else scenario.name}")
     try:
-        r = run_scenario(scenario, tree, record_dir=out,
+        r = run_scenario(scenario, tree, record_dir=out, config_path=config_sources(args),
                          on_tick=progress_callback(progress, scenario.time_limit))
-    except (ScenarioError, TreeLoadError, WiringError) as e:
+    except (ScenarioError, TreeLoadError, WiringError, ConfigError) as e:
         progress.done()
         return fail("demo", str(e))
     progress.done()

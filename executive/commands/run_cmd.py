@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 
-from executive.commands._common import fail, parse_pose
+from executive.commands._common import (add_config_arguments, fail, load_config_from_args,
+                                        parse_pose, print_config_warnings)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("tree", help="tree file (YAML or BT.CPP XML)")
-    p.add_argument("--config", help="robot config YAML (default: the bundled robot)")
+    add_config_arguments(p)
     p.add_argument("--map", required=True, help="map_server YAML")
     p.add_argument("--goal", action="append", type=parse_pose, required=True,
                    metavar="X,Y,YAW", help="a goal in map (repeat for several, visited in turn)")
@@ -31,7 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import os
 
-    from executive.config import ConfigError, load_config
+    from executive.config import ConfigError
     from executive.loading import TreeLoadError
     from executive.mission import WiringError, build_mission, free_start, progress_callback, \
         run_mission
@@ -39,9 +40,10 @@ def run(args: argparse.Namespace) -> int:
     from executive.recorder import Recorder
     from navcore.maps import MapError, load_map
     try:
-        config = load_config(args.config)
+        config = load_config_from_args(args)
     except ConfigError as e:
         return fail("run", str(e))
+    print_config_warnings(config)
     try:
         grid = load_map(args.map)
     except MapError as e:

@@ -6,7 +6,7 @@ import argparse
 import json
 import sys
 
-from executive.commands._common import fail
+from executive.commands._common import add_config_arguments, config_sources, fail
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -16,7 +16,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     r.add_argument("paths", nargs="+", metavar="PATH", help="scenario files or directories")
     r.add_argument("--tree", action="append", metavar="TREE",
                    help="tree file (repeatable; default trees/smach_recovery.yaml)")
-    r.add_argument("--config", help="base robot config (default: the bundled robot)")
+    add_config_arguments(r, "base robot config YAML (default: the bundled robot, unless ROS "
+                            "files are given)")
     r.add_argument("--record", metavar="DIR", help="write a run folder per scenario and tree "
                                                    "under DIR")
     r.add_argument("--json", action="store_true", help="print results as JSON")
@@ -31,6 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import os
 
+    from executive.config import ConfigError
     from executive.loading import TreeLoadError, shipped_tree
     from executive.scenario import (ScenarioError, load_scenario, run_scenario,
                                     scenario_files)
@@ -61,9 +63,10 @@ def run(args: argparse.Namespace) -> int:
             if args.record:
                 record = os.path.join(args.record, f"{s.name}__{os.path.splitext(os.path.basename(t))[0]}")
             try:
-                results.append(run_scenario(s, t, record_dir=record, config_path=args.config,
+                results.append(run_scenario(s, t, record_dir=record,
+                                            config_path=config_sources(args),
                                             hardware="emulated" if args.hw_emulated else False))
-            except (ScenarioError, TreeLoadError) as e:
+            except (ScenarioError, TreeLoadError, ConfigError) as e:
                 return fail("scenario", str(e))
             except Exception as e:  # noqa: BLE001 - one broken component: say where, stop
                 return fail("scenario", f"{s.source}: {type(e).__name__}: {e}")
