@@ -18,13 +18,18 @@ py_trees storage is process-global, and this is what keeps two missions apart.
 from __future__ import annotations
 
 import copy
+import math
+from dataclasses import dataclass
 from typing import Any, Callable, ClassVar, Iterable, Iterator
 
 import py_trees
 from py_trees.common import Status
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
 
-__all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInformation", "Status",
+from navcore.types import Pose2D
+
+__all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInformation", "Port",
+           "port_problem", "Status",
            "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable",
            "tick_child", "tick_observed", "RUNNING", "SUCCESS", "FAILURE", "INVALID"]
 
@@ -34,6 +39,39 @@ RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAIL
 
 _MISSING = object()
 _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds every key
+
+
+@dataclass(frozen=True)
+class Port(PortInformation):
+    """A port whose numbers must lie in ``[low, high]`` (either bound optional).
+
+    Every number port (``float`` or ``int``) refuses NaN and infinity whatever its declaration
+    (``port_problem``); ``Port`` adds the range. Literals are checked when the tree loads, wired
+    values on every read.
+    """
+
+    low: float | None = None
+    high: float | None = None
+
+
+def port_problem(info: PortInformation, value: Any) -> str | None:
+    """Why ``value`` does not fit the number port ``info`` (None when it does, or is no number);
+    a pose must be finite too."""
+    if isinstance(value, Pose2D):
+        if not (math.isfinite(value.x) and math.isfinite(value.y) and math.isfinite(value.theta)):
+            return f"must be a finite pose, got {value}"
+        return None
+    if info.data_type not in (float, int) or isinstance(value, bool) \
+            or not isinstance(value, (int, float)):
+        return None
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"must be a finite number, got {value}"
+    low, high = getattr(info, "low", None), getattr(info, "high", None)
+    if low is not None and value < low:
+        return f"must be >= {low:g}, got {value!r}"
+    if high is not None and value > high:
+        return f"must be <= {high:g}, got {value!r}"
+    return None
 
 
 class ComponentError(RuntimeError):
@@ -131,6 +169,9 @@ class NavNode(PortsMixin):
         # the class each wired input must hold (ports typed with something else go unchecked)
         self._types = {p: info.data_type for p, info in self.input_ports().items()
                        if p in self._keys and isinstance(info.data_type, type)}
+        # wired number inputs: range-checked on read (literals were checked at load time)
+        self._ranged = {p: info for p, info in self.input_ports().items()
+                        if p in self._keys and info.data_type in (float, int)}
 
     def _fast_get(self, port_name: str) -> Any:
         """Stored value of a wired port, _MISSING when absent (None counts as absent)."""
@@ -143,6 +184,12 @@ class NavNode(PortsMixin):
                 raise TypeError(f"{type(self).__name__} '{self.name}': port '{port_name}' "
                                 f"({self._keys[port_name]}) holds {type(value).__name__}, "
                                 f"expected {expected.__name__}")
+            info = self._ranged.get(port_name)
+            if info is not None:
+                problem = port_problem(info, value)
+                if problem is not None:
+                    raise ValueError(f"{type(self).__name__} '{self.name}': port '{port_name}' "
+                                     f"({self._keys[port_name]}) {problem}")
         return value
 
     def get_input(self, port_name: str, default: Any = None) -> Any:

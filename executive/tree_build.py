@@ -19,7 +19,7 @@ from typing import Any, Iterable
 
 import py_trees
 
-from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes
+from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes, port_problem
 from behaviors.decorators.set_parameters import parse_values
 from executive import nav2_model
 from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors,
@@ -370,6 +370,9 @@ class Builder:
             want = str(e) if str(e) and not str(e).startswith(("could not", "invalid")) \
                 else getattr(info.data_type, "__name__", "?")
             raise spec.error(f"port '{port}' expects {want}, got {pv.raw!r}", pv.where) from None
+        problem = port_problem(info, value)
+        if problem is not None:
+            raise spec.error(f"port '{port}' {problem}", pv.where)
         if port in choices and value not in choices[port]:
             raise spec.error(f"port '{port}' must be one of {', '.join(choices[port])}, got "
                              f"{value!r}{did_you_mean(str(value), choices[port])}", pv.where)

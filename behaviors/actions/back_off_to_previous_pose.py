@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.types import Pose2D
@@ -24,21 +24,21 @@ class BackOffToPreviousPose(RecoveryAction):
     """
 
     INPUT_PORTS = {
-        "distance": PortInformation(float, False, "how far back along the trail, m", 0.5),
-        "max_distance": PortInformation(float, False,
+        "distance": Port(float, False, "how far back along the trail, m", 0.5, low=0.0),
+        "max_distance": Port(float, False,
                                         "how far back at most to reach a pose free of "
-                                        "inscribed cost, m", 2.0),
+                                        "inscribed cost, m", 2.0, low=0.0),
         "speed": PortInformation(float, False, "m/s", 0.1),
-        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
-        "lookahead": PortInformation(float, False, "pure-pursuit look-ahead, m", 0.25),
-        "xy_goal_tolerance": PortInformation(float, False, "m", 0.08),
-        "time_allowance": PortInformation(float, False, "s before giving up", 20.0),
-        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+        "max_rotational_vel": Port(float, False, "rad/s", 1.0, low=0.0),
+        "lookahead": Port(float, False, "pure-pursuit look-ahead, m", 0.25, low=0.0),
+        "xy_goal_tolerance": Port(float, False, "m", 0.08, low=0.0),
+        "time_allowance": Port(float, False, "s before giving up", 20.0, low=0.0),
+        "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 1.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
         "pose_history": PortInformation(list, False, "Pose2D trail, oldest first"),
-        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
-        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
-                                                   5.0),
+        "required_movement_radius": Port(float, False, "progress radius, m", 0.1, low=0.0),
+        "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
+                                                   5.0, low=0.0),
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "back_off_error_code",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
 from navcore.types import Pose2D
 from behaviors.actions.recovery_action import COSTMAP_CHOICES, RecoveryAction
 
@@ -50,7 +50,7 @@ class ClearCostmapExceptRegion(ClearCostmap):
 
     INPUT_PORTS = {
         "costmap": PortInformation(str, False, "local, global or both", "both"),
-        "reset_distance": PortInformation(float, False, "side of the kept square, m", 1.0),
+        "reset_distance": Port(float, False, "side of the kept square, m", 1.0, low=0.0),
     }
 
     def clear(self, handle: Any, pose: Pose2D | None) -> None:
@@ -65,7 +65,7 @@ class ClearCostmapAroundRobot(ClearCostmap):
 
     INPUT_PORTS = {
         "costmap": PortInformation(str, False, "local, global or both", "local"),
-        "reset_distance": PortInformation(float, False, "side of the cleared square, m", 1.0),
+        "reset_distance": Port(float, False, "side of the cleared square, m", 1.0, low=0.0),
     }
 
     def clear(self, handle: Any, pose: Pose2D | None) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.error_codes import BehaviorError
 from navcore.types import Pose2D, Twist
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
@@ -22,8 +22,8 @@ class DriveOnHeading(RecoveryAction):
     INPUT_PORTS = {
         "dist_to_travel": PortInformation(float, False, "m; negative = backwards", 0.15),
         "speed": PortInformation(float, False, "m/s; same sign as the distance", 0.025),
-        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
-        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "time_allowance": Port(float, False, "s before giving up", 10.0, low=0.0),
+        "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
@@ -78,9 +78,9 @@ class BackUp(DriveOnHeading):
 
     INPUT_PORTS = {
         "backup_dist": PortInformation(float, False, "m to back up", 0.15),
-        "backup_speed": PortInformation(float, False, "m/s", 0.025),
-        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
-        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
+        "backup_speed": Port(float, False, "m/s", 0.025, low=0.0),
+        "time_allowance": Port(float, False, "s before giving up", 10.0, low=0.0),
+        "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
     }
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "backup_error_code"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortInformation, Status
 from behaviors.error_codes import ControllerError
 from navcore.types import Path, Pose2D, Twist
 
@@ -29,9 +29,9 @@ class FollowPath(Leaf):
         "failure_tolerance": PortInformation(float, False,
                                              "s without a valid command before FAILURE; -1 never",
                                              0.0),
-        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.5),
-        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
-                                                   10.0),
+        "required_movement_radius": Port(float, False, "progress radius, m", 0.5, low=0.0),
+        "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
+                                                   10.0, low=0.0),
     }
     OUTPUT_PORTS = {
         "cmd_vel": PortInformation(Twist, True, "velocity command for this tick"),

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from behaviors.base import SUCCESS, Leaf, PortInformation, Status
+from behaviors.base import SUCCESS, Leaf, Port, PortInformation, Status
 from navcore.types import Pose2D
 
 
@@ -15,8 +15,8 @@ class RecordPoseHistory(Leaf):
     pipeline so the trail grows while the robot drives. The history survives recoveries."""
 
     INPUT_PORTS = {
-        "spacing": PortInformation(float, False, "distance between stored poses, m", 0.05),
-        "max_length": PortInformation(float, False, "trail length kept, m", 5.0),
+        "spacing": Port(float, False, "distance between stored poses, m", 0.05, low=0.001),
+        "max_length": Port(float, False, "trail length kept, m", 5.0, low=0.0, high=1000.0),
     }
     OUTPUT_PORTS = {"pose_history": PortInformation(list, True, "Pose2D, oldest first")}
     DEFAULT_KEYS = {"pose_history": "pose_history"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.error_codes import BehaviorError
 from navcore.types import Pose2D, Twist, angle_diff
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
@@ -23,13 +23,13 @@ class Spin(RecoveryAction):
 
     INPUT_PORTS = {
         "spin_dist": PortInformation(float, False, "angle to turn, rad; sign gives direction", 1.57),
-        "time_allowance": PortInformation(float, False, "s before giving up", 10.0),
-        "max_rotational_vel": PortInformation(float, False, "rad/s", 1.0),
-        "min_rotational_vel": PortInformation(float, False, "rad/s", 0.4),
-        "rotational_acc_lim": PortInformation(float, False, "rad/s^2", 3.2),
-        "yaw_goal_tolerance": PortInformation(float, False, "rad", 0.1),
-        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 2.0),
-        "sim_granularity": PortInformation(float, False, "collision check step, rad", 0.017),
+        "time_allowance": Port(float, False, "s before giving up", 10.0, low=0.0),
+        "max_rotational_vel": Port(float, False, "rad/s", 1.0, low=0.0),
+        "min_rotational_vel": Port(float, False, "rad/s", 0.4, low=0.0),
+        "rotational_acc_lim": Port(float, False, "rad/s^2", 3.2, low=0.0),
+        "yaw_goal_tolerance": Port(float, False, "rad", 0.1, low=0.0),
+        "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
+        "sim_granularity": Port(float, False, "collision check step, rad", 0.017, low=0.001),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.clearance import clearances
 from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
@@ -87,31 +87,31 @@ class TemporaryGoal(RecoveryAction):
     """
 
     INPUT_PORTS = {
-        "search_radius": PortInformation(float, False, "farthest candidate, m", 1.5),
-        "min_distance": PortInformation(float, False, "nearest candidate, m", 0.4),
-        "radial_step": PortInformation(float, False, "spacing of the rings, m", 0.2),
-        "angular_samples": PortInformation(int, False, "candidates per ring", 16),
+        "search_radius": Port(float, False, "farthest candidate, m", 1.5, low=0.0, high=100.0),
+        "min_distance": Port(float, False, "nearest candidate, m", 0.4, low=0.0),
+        "radial_step": Port(float, False, "spacing of the rings, m", 0.2, low=0.01),
+        "angular_samples": Port(int, False, "candidates per ring", 16, low=1, high=720),
         "costmap": PortInformation(str, False, "costmap to score candidates on", "local"),
         "planner_id": PortInformation(str, False, "planner for the way there", "GridBased"),
         "controller_id": PortInformation(str, False, "controller for the way there", "FollowPath"),
-        "max_plans_per_tick": PortInformation(int, False, "planner calls per tick", 4),
+        "max_plans_per_tick": Port(int, False, "planner calls per tick", 4, low=1, high=100),
         "goal": PortInformation(Pose2D, False, "navigation goal: among equally open poses, "
                                                "those nearer to it come first"),
         "arc_first": PortInformation(bool, False,
                                      "first try poses one collision-free arc away, driven "
                                      "without the planner", True),
-        "xy_goal_tolerance": PortInformation(float, False, "m", 0.15),
-        "time_allowance": PortInformation(float, False, "s before giving up", 30.0),
-        "escape_speed": PortInformation(float, False,
+        "xy_goal_tolerance": Port(float, False, "m", 0.15, low=0.0),
+        "time_allowance": Port(float, False, "s before giving up", 30.0, low=0.0),
+        "escape_speed": Port(float, False,
                                         "m/s of the own pursuit used when the controller finds "
-                                        "no valid command (0 = never)", 0.1),
-        "lookahead": PortInformation(float, False, "own pursuit look-ahead, m", 0.4),
-        "max_rotational_vel": PortInformation(float, False, "own pursuit, rad/s", 1.0),
-        "simulate_ahead_time": PortInformation(float, False, "collision look-ahead, s", 1.0),
+                                        "no valid command (0 = never)", 0.1, low=0.0),
+        "lookahead": Port(float, False, "own pursuit look-ahead, m", 0.4, low=0.0),
+        "max_rotational_vel": Port(float, False, "own pursuit, rad/s", 1.0, low=0.0),
+        "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 1.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
-        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.1),
-        "movement_time_allowance": PortInformation(float, False, "s to make progress; 0 = off",
-                                                   5.0),
+        "required_movement_radius": Port(float, False, "progress radius, m", 0.1, low=0.0),
+        "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
+                                                   5.0, low=0.0),
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT,
                     "temporary_goal": PortInformation(Pose2D, False, "the pose chosen")}

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from behaviors.base import RUNNING, SUCCESS, PortInformation, Status
+from behaviors.base import RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.actions.recovery_action import RecoveryAction
 
 
 class Wait(RecoveryAction):
     """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS."""
 
-    INPUT_PORTS = {"wait_duration": PortInformation(float, False, "s", 1.0)}
+    INPUT_PORTS = {"wait_duration": Port(float, False, "s", 1.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     NEEDS_ROBOT = False
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, INVALID, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, SUCCESS, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition
 
 
@@ -10,7 +10,7 @@ class DistanceTraveled(Condition):
     """SUCCESS each time the robot has moved ``distance`` metres since the run started or it
     last fired (straight-line)."""
 
-    INPUT_PORTS = {"distance": PortInformation(float, False, "m", 1.0)}
+    INPUT_PORTS = {"distance": Port(float, False, "m", 1.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def update(self) -> Status:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, PortInformation, Status
+from behaviors.base import FAILURE, Port, PortInformation, Status
 from navcore.types import Pose2D
 from behaviors.conditions.condition import Condition, yes
 
@@ -12,7 +12,7 @@ class GoalReached(Condition):
 
     INPUT_PORTS = {
         "goal": PortInformation(Pose2D, True, "goal pose in map"),
-        "goal_reached_tol": PortInformation(float, False, "distance tolerance, m", 0.25),
+        "goal_reached_tol": Port(float, False, "distance tolerance, m", 0.25, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     DEFAULT_KEYS = {"goal": "goal"}

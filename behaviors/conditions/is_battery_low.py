@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, PortInformation, Status
+from behaviors.base import FAILURE, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition, yes
 
 
@@ -11,7 +11,7 @@ class IsBatteryLow(Condition):
     ``is_voltage``). FAILURE when no battery state is known. (Nav2 ``IsBatteryLow``.)"""
 
     INPUT_PORTS = {
-        "min_battery": PortInformation(float, False, "threshold, fraction 0..1 or V", 0.2),
+        "min_battery": Port(float, False, "threshold, fraction 0..1 or V", 0.2, low=0.0),
         "is_voltage": PortInformation(bool, False, "compare volts instead of charge", False),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}

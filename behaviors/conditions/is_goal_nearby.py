@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numba import njit
 
-from behaviors.base import FAILURE, PortInformation, Status
+from behaviors.base import FAILURE, Port, PortInformation, Status
 from navcore.types import Path, Pose2D
 from behaviors.conditions.condition import Condition, yes
 
@@ -67,7 +67,7 @@ class IsGoalNearby(Condition):
 
     INPUT_PORTS = {
         "path": PortInformation(Path, True, "current global path"),
-        "proximity_threshold": PortInformation(float, False, "remaining path length, m", 1.0),
+        "proximity_threshold": Port(float, False, "remaining path length, m", 1.0, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     DEFAULT_KEYS = {"path": "path"}

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from behaviors.base import SUCCESS, PortInformation, Status
+from behaviors.base import SUCCESS, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition, yes
 
 
@@ -18,8 +18,8 @@ class IsLocalized(Condition):
     """
 
     INPUT_PORTS = {
-        "max_xy_std": PortInformation(float, False, "largest x or y std deviation, m", 0.25),
-        "max_yaw_std": PortInformation(float, False, "largest yaw std deviation, rad", 0.25),
+        "max_xy_std": Port(float, False, "largest x or y std deviation, m", 0.25, low=0.0),
+        "max_yaw_std": Port(float, False, "largest yaw std deviation, rad", 0.25, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from behaviors.base import FAILURE, PortInformation, Status
+from behaviors.base import FAILURE, Port, PortInformation, Status
 from navcore.types import Pose2D
 from behaviors.conditions.condition import Condition, ProgressWindow, yes
 
@@ -19,8 +19,8 @@ class IsOscillating(Condition):
     """
 
     INPUT_PORTS = {
-        "oscillation_timeout": PortInformation(float, False, "s; 0 disables the check", 0.0),
-        "oscillation_distance": PortInformation(float, False, "m the robot must move", 0.5),
+        "oscillation_timeout": Port(float, False, "s; 0 disables the check", 0.0, low=0.0),
+        "oscillation_distance": Port(float, False, "m the robot must move", 0.5, low=0.0),
         "goal": PortInformation(Pose2D, False, "the timer restarts when this changes"),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}

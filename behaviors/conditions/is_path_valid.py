@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
 from navcore.types import Path
 from behaviors.conditions.condition import Condition
@@ -18,8 +18,8 @@ class IsPathValid(Condition):
 
     INPUT_PORTS = {
         "path": PortInformation(Path, True, "path to check"),
-        "max_cost": PortInformation(int, False, "highest acceptable cell cost",
-                                    INSCRIBED_INFLATED_OBSTACLE - 1),
+        "max_cost": Port(int, False, "highest acceptable cell cost",
+                                    INSCRIBED_INFLATED_OBSTACLE - 1, low=0, high=255),
         "consider_unknown_as_obstacle": PortInformation(bool, False, "unknown cells block", False),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import INVALID, PortInformation, Status
+from behaviors.base import INVALID, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition, ProgressWindow, yes
 
 
@@ -12,8 +12,8 @@ class IsStuck(Condition):
     SimpleProgressChecker, rather than Nav2's deceleration-only ``IsStuck``)."""
 
     INPUT_PORTS = {
-        "required_movement_radius": PortInformation(float, False, "progress radius, m", 0.5),
-        "movement_time_allowance": PortInformation(float, False, "time to make progress, s", 10.0),
+        "required_movement_radius": Port(float, False, "progress radius, m", 0.5, low=0.0),
+        "movement_time_allowance": Port(float, False, "time to make progress, s", 10.0, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 

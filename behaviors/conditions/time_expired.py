@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, INVALID, SUCCESS, PortInformation, Status
+from behaviors.base import FAILURE, INVALID, SUCCESS, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition
 
 
 class TimeExpired(Condition):
     """SUCCESS each time ``seconds`` have passed since the run started or it last fired."""
 
-    INPUT_PORTS = {"seconds": PortInformation(float, False, "period, s", 1.0)}
+    INPUT_PORTS = {"seconds": Port(float, False, "period, s", 1.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def update(self) -> Status:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import Control, PortInformation, namespaced, tick_child
+from behaviors.base import Control, Port, PortInformation, namespaced, tick_child
 from navcore.types import Pose2D
 from behaviors.actions.compute_path_to_pose import ComputePathToPose
 from behaviors.actions.follow_path import FollowPath
@@ -22,7 +22,7 @@ class NavigateToPose(Control):
 
     INPUT_PORTS = {
         "goal": PortInformation(Pose2D, True, "goal pose in map"),
-        "replan_hz": PortInformation(float, False, "replanning rate, Hz; 0 = plan once", 1.0),
+        "replan_hz": Port(float, False, "replanning rate, Hz; 0 = plan once", 1.0, low=0.0),
         "planner_id": PortInformation(str, False, "planner id", "GridBased"),
         "controller_id": PortInformation(str, False, "controller id", "FollowPath"),
     }

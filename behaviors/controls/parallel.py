@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, Status, tick_child
+from behaviors.base import (FAILURE, RUNNING, SUCCESS, Control, Port, PortInformation,
+                            Status, tick_child)
 
 
 class Parallel(Control):
@@ -13,8 +14,8 @@ class Parallel(Control):
     """
 
     INPUT_PORTS = {
-        "success_count": PortInformation(int, False, "children that must succeed; -1 = all", -1),
-        "failure_count": PortInformation(int, False, "children failing to fail the node; -1 = all", 1),
+        "success_count": Port(int, False, "children that must succeed; -1 = all", -1, low=-1),
+        "failure_count": Port(int, False, "children failing to fail the node; -1 = all", 1, low=-1),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 

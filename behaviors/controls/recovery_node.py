@@ -6,8 +6,8 @@ from typing import Any
 
 import py_trees
 
-from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, PortInformation, Status,
-                            tick_child)
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, Port,
+                            PortInformation, Status, tick_child)
 
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -31,10 +31,10 @@ class RecoveryNode(Control):
     """
 
     INPUT_PORTS = {
-        "number_of_retries": PortInformation(int, False, "recoveries before giving up", 1),
-        "reset_after": PortInformation(float, False,
+        "number_of_retries": Port(int, False, "recoveries before giving up", 1, low=0),
+        "reset_after": Port(float, False,
                                        "s of RUNNING main child that reset the recoveries; "
-                                       "0 = never (Nav2)", 0.0),
+                                       "0 = never (Nav2)", 0.0, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     MIN_CHILDREN = 2

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, DecoratorNode, PortInformation, tick_child
+from behaviors.base import (INVALID, RUNNING, SUCCESS, DecoratorNode, Port,
+                            PortInformation, tick_child)
 
 
 class UsesRobot(DecoratorNode):
@@ -23,7 +24,7 @@ class DistanceController(UsesRobot):
     result. Distance is straight-line from where the child last succeeded.
     """
 
-    INPUT_PORTS = {"distance": PortInformation(float, False, "travel between ticks, m", 1.0)}
+    INPUT_PORTS = {"distance": Port(float, False, "travel between ticks, m", 1.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def tick_now(self) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, tick_child
 from behaviors.decorators.timeout import Timed
 
 
@@ -16,7 +16,7 @@ class RateController(Timed):
     ``hz: 0`` ticks it once per run (move_base's ``planner_frequency: 0``).
     """
 
-    INPUT_PORTS = {"hz": PortInformation(float, False, "rate, Hz; 0 = once per run", 10.0)}
+    INPUT_PORTS = {"hz": Port(float, False, "rate, Hz; 0 = once per run", 10.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def tick_now(self) -> None:

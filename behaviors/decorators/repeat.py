@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, DecoratorNode, PortInformation,
-                            Status, tick_child)
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, DecoratorNode, Port,
+                            PortInformation, Status, tick_child)
 
 
 class Rerun(DecoratorNode):
@@ -41,7 +41,7 @@ class RetryUntilSuccessful(Rerun):
     that keeps failing cannot stall the control loop.
     """
 
-    INPUT_PORTS = {"num_attempts": PortInformation(int, False, "attempts in all; -1 = forever", 1)}
+    INPUT_PORTS = {"num_attempts": Port(int, False, "attempts in all; -1 = forever", 1, low=-1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     RERUN_ON, LIMIT_PORT = FAILURE, "num_attempts"
     FEEDBACK = "attempt {n} of {limit} failed"
@@ -53,7 +53,7 @@ class Repeat(Rerun):
     RUNNING between runs; FAILURE as soon as a run fails; SUCCESS after the last success.
     """
 
-    INPUT_PORTS = {"num_cycles": PortInformation(int, False, "successful runs; -1 = forever", 1)}
+    INPUT_PORTS = {"num_cycles": Port(int, False, "successful runs; -1 = forever", 1, low=-1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     RERUN_ON, LIMIT_PORT = SUCCESS, "num_cycles"
     FEEDBACK = "cycle {n} of {limit} done"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, tick_child
 from behaviors.decorators.distance_controller import UsesRobot
 
 
@@ -16,10 +16,10 @@ class SpeedController(UsesRobot):
     """
 
     INPUT_PORTS = {
-        "min_rate": PortInformation(float, False, "rate at min_speed, Hz", 0.1),
-        "max_rate": PortInformation(float, False, "rate at max_speed, Hz", 1.0),
-        "min_speed": PortInformation(float, False, "speed giving min_rate, m/s", 0.0),
-        "max_speed": PortInformation(float, False, "speed giving max_rate, m/s", 0.5),
+        "min_rate": Port(float, False, "rate at min_speed, Hz", 0.1, low=0.0),
+        "max_rate": Port(float, False, "rate at max_speed, Hz", 1.0, low=0.0),
+        "min_speed": Port(float, False, "speed giving min_rate, m/s", 0.0, low=0.0),
+        "max_speed": Port(float, False, "speed giving max_rate, m/s", 0.5, low=0.0),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, tick_child
+from behaviors.base import FAILURE, RUNNING, DecoratorNode, Port, PortInformation, tick_child
 
 
 class Timed(DecoratorNode):
@@ -23,7 +23,7 @@ class Timeout(Timed):
     Otherwise the child's status. The clock starts on the first tick of a run.
     """
 
-    INPUT_PORTS = {"msec": PortInformation(int, True, "time allowed, ms")}
+    INPUT_PORTS = {"msec": Port(int, True, "time allowed, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def tick_now(self) -> None:
@@ -41,7 +41,7 @@ class Timeout(Timed):
 class Delay(Timed):
     """RUNNING for ``delay_msec`` milliseconds, then tick the child and return its status."""
 
-    INPUT_PORTS = {"delay_msec": PortInformation(int, True, "delay before the child runs, ms")}
+    INPUT_PORTS = {"delay_msec": Port(int, True, "delay before the child runs, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
     def tick_now(self) -> None:
