@@ -19,6 +19,8 @@ Keyword arguments of ``setup``:
 ``localizer``       Localizer or None.
 ``parameters``      dict of ROS namespace -> navcore.params.Parameters (for SetParameters).
 ``control_period``  float seconds, 1 / controller_frequency.
+``route_graph``     navcore.route.RouteGraph or None (route_server.graph_filepath).
+``route_path_density`` float m between poses of a route's path (route_server.path_density).
 =================== ======================================================================
 """
 

@@ -9,7 +9,7 @@ import pkgutil
 
 import behaviors
 
-PACKAGES = ("actions", "conditions", "controls", "decorators")
+PACKAGES = ("actions", "conditions", "controls", "decorators", "nav2", "btcpp")
 
 for _package in PACKAGES:
     _path = [p + "/" + _package for p in behaviors.__path__]

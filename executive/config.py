@@ -114,6 +114,7 @@ COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
                       ("navcore.controllers.dwa", "PARAMS")),
     "TrajectoryPlannerROS": (("navcore.controllers.trajectory_rollout", "TR_PARAMS"),),
     "amcl": (("navcore.localization.amcl_params", "AMCL_PARAMS"),),
+    "route_server": (("navcore.route.graph", "ROUTE_SERVER_PARAMS"),),
 }
 
 # The simulated body (kinematics, limits, odometry noise, laser/imu/battery sections) is declared

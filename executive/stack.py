@@ -66,6 +66,29 @@ def build_amcl(config: RobotConfig, grid: OccupancyGrid, start: Pose2D | None,
     return Amcl(grid, params, rng)
 
 
+def build_route_graph(config: RobotConfig) -> Any:
+    """The route graph of ``route_server.graph_filepath`` (None when not configured). A
+    relative path is looked up beside the config file, then among the bundled maps."""
+    import os
+    from pathlib import Path as FsPath
+
+    from navcore.route import RouteError, load_route_graph
+    path = str(config.ns("route_server").get("graph_filepath") or "")
+    if not path:
+        return None
+    candidates = [path] if os.path.isabs(path) else [
+        os.path.join(os.path.dirname(str(config.source)), path),
+        str(FsPath(__file__).resolve().parent / "data" / "maps" / path)]
+    found = next((c for c in candidates if os.path.isfile(c)), None)
+    if found is None:
+        raise WiringError(f"{config.source}: route_server: graph_filepath '{path}' not found "
+                          f"(looked in {', '.join(candidates)})")
+    try:
+        return load_route_graph(found)
+    except RouteError as e:
+        raise WiringError(str(e)) from None
+
+
 @dataclass
 class Stack:
     """The components one mission's tree calls; ``localizer`` is None on ground truth."""
@@ -76,6 +99,7 @@ class Stack:
     planner: Any
     controller: Any
     localizer: Any = None
+    route_graph: Any = None  # navcore.route.RouteGraph when route_server.graph_filepath is set
 
     @classmethod
     def from_config(cls, config: RobotConfig, grid: OccupancyGrid, clock: Clock) -> Stack:
@@ -86,7 +110,8 @@ class Stack:
             controller = build_controller(config, local_cm)
         except ImportError as e:
             raise WiringError(f"component not available: {e}") from None
-        return cls(config, global_cm, local_cm, planner, controller)
+        return cls(config, global_cm, local_cm, planner, controller,
+                   route_graph=build_route_graph(config))
 
     def add_localizer(self, grid: OccupancyGrid, start: Pose2D | None,
                       rng: np.random.Generator) -> None:
@@ -119,4 +144,7 @@ class Stack:
             "controllers": {"FollowPath": self.controller},
             "localizer": self.localizer,
             "parameters": self.parameters(),
+            "route_graph": self.route_graph,
+            "route_path_density": float(self.config.ns("route_server").get("path_density",
+                                                                             0.05)),
         }

@@ -6,6 +6,7 @@ from typing import Any
 
 from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortInformation, Status
 from behaviors.error_codes import ControllerError
+from navcore.path_ops import TrackingFeedback, tracking_feedback
 from navcore.types import Path, Pose2D, Twist
 
 
@@ -37,14 +38,23 @@ class FollowPath(Leaf):
         "cmd_vel": PortInformation(Twist, True, "velocity command for this tick"),
         "error_code_id": PortInformation(int, False, "a ControllerError; 0 on success"),
         "error_msg": PortInformation(str, False, "why following failed"),
+        "tracking_feedback": PortInformation(TrackingFeedback, False,
+                                             "tracking errors each tick (Nav2 main)"),
     }
     DEFAULT_KEYS = {"path": "path", "cmd_vel": "cmd_vel", "error_code_id": "follow_path_error_code",
                     "error_msg": "follow_path_error_msg"}
+    _feedback_wired = False
 
     def setup(self, **kwargs: Any) -> None:
         self.clock = self.component(kwargs, "clock")
         self.robot = self.component(kwargs, "robot")
         self.controllers = self.component(kwargs, "controllers")
+
+    def wire(self, namespace: str, refs: dict[str, str] | None = None,
+             literals: dict[str, Any] | None = None) -> None:
+        super().wire(namespace, refs, literals)
+        # tracking feedback costs a path search each tick: only when the tree reads it
+        self._feedback_wired = "tracking_feedback" in (refs or {})
 
     def initialise(self) -> None:
         self._plan: Path | None = None
@@ -91,6 +101,9 @@ class FollowPath(Leaf):
             self.say(f"no valid command ({result.status}), trying again")
             return RUNNING
         self._last_valid = now
+        if self._feedback_wired:
+            self.write("tracking_feedback", tracking_feedback(path, pose,
+                                                              self.robot.velocity().vx))
         if self._stalled(pose, now):
             return self.fail(ControllerError.FAILED_TO_MAKE_PROGRESS,
                              f"moved less than {self.get_input('required_movement_radius')} m in "

@@ -59,8 +59,11 @@ class RecoveryAction(Recovery, Leaf):
         return self.costmaps.get("local") or self.costmaps.get("global")
 
     def report(self, code: BehaviorError, msg: str = "") -> None:
-        if "error_code_id" in self.output_ports():
+        outputs = self.output_ports()
+        if "error_code_id" in outputs:
             self.write("error_code_id", int(code))
+        if "error_msg" in outputs:  # Nav2 Kilted+: the reason as text, "" on success
+            self.write("error_msg", "" if code == BehaviorError.NONE else msg)
         self.say(msg)
 
     def first_collision(self, poses: Iterable[Pose2D], start: Pose2D | None = None
@@ -144,7 +147,8 @@ class RecoveryAction(Recovery, Leaf):
             self.stop_motion()
 
 
-ERROR_CODE_OUT = {"error_code_id": PortInformation(int, False, "a BehaviorError; 0 on success")}
+ERROR_CODE_OUT = {"error_code_id": PortInformation(int, False, "a BehaviorError; 0 on success"),
+                  "error_msg": PortInformation(str, False, "why it failed; empty on success")}
 
 
 CMD_VEL_OUT = {"cmd_vel": PortInformation(Twist, True, "velocity command for this tick")}

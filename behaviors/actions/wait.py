@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from behaviors.base import RUNNING, SUCCESS, Port, PortInformation, Status
-from behaviors.actions.recovery_action import RecoveryAction
+from behaviors.actions.recovery_action import ERROR_CODE_OUT, RecoveryAction
+from behaviors.error_codes import BehaviorError
 
 
 class Wait(RecoveryAction):
-    """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS."""
+    """RUNNING for ``wait_duration`` seconds of the injected clock, then SUCCESS
+    (``error_code_id`` 0 and an empty ``error_msg``, Nav2 Kilted's outputs)."""
 
     INPUT_PORTS = {"wait_duration": Port(float, False, "s", 1.0, low=0.0)}
-    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS = dict(ERROR_CODE_OUT)
     NEEDS_ROBOT = False
 
     def initialise(self) -> None:
@@ -19,6 +21,7 @@ class Wait(RecoveryAction):
     def update(self) -> Status:
         left = self._until - self.clock.now()
         if left <= 1e-9:
+            self.report(BehaviorError.NONE, "waited")
             return SUCCESS
         self.say("{:.1f} s left", left)
         return RUNNING

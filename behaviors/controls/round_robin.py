@@ -14,7 +14,9 @@ class RoundRobin(Control):
     ``wrap_around: false``, once the last child has been attempted (so a recovery list is tried
     at most once per navigation; the position then returns to the first child). Halting it
     while RUNNING resets the position; halting it after it finished does not.
-    (Nav2 ``RoundRobin``, main branch.)
+    (Nav2 ``RoundRobin``, main branch.) A tree that follows Nav2 main (``nav2_distro: main``)
+    gets main's exact rule: without wrap, the last child's SUCCESS also gives FAILURE at once;
+    before main the loader makes it always wrap (docs/trees.md).
     """
 
     INPUT_PORTS = {
@@ -47,6 +49,9 @@ class RoundRobin(Control):
             exhausted = self._index == n
             if exhausted and wrap:
                 self._index = 0
+            if child.status is SUCCESS and exhausted and not wrap and \
+                    getattr(self, "nav2_distro", None) == "main":
+                break  # Nav2 main: the end of the list without wrap is FAILURE, even on success
             if child.status is SUCCESS:
                 self._failed = 0
                 self._finish(SUCCESS)

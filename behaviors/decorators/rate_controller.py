@@ -12,7 +12,9 @@ class RateController(Timed):
     """Tick the child at most ``hz`` times per second (Nav2 ``RateController``).
 
     The child is ticked on the first tick of a run, whenever it is RUNNING, and when ``1/hz``
-    seconds passed since its last success; otherwise the child's last result is returned.
+    seconds passed since its last success, and its status is returned. In between it is not
+    ticked and the node returns RUNNING, as Nav2's does (every distribution); so in a
+    PipelineSequence the later children keep running, and in a plain Sequence they wait.
     ``hz: 0`` ticks it once per run (move_base's ``planner_frequency: 0``).
     """
 
@@ -31,4 +33,8 @@ class RateController(Timed):
             self._last_status = self.decorated.status
             if self._last_status is SUCCESS:
                 self._last_ok = now
-        self._finish(self._last_status)
+            self._finish(self._last_status)
+            return
+        self.say("throttled: {:.2f} s to the next tick", self._last_ok + 1.0 / hz - now
+                 if hz > 0.0 else math.inf)
+        self._finish(RUNNING)

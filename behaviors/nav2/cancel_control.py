@@ -1,0 +1,27 @@
+"""CancelControl (Nav2 action)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from behaviors.base import SUCCESS, Leaf, PortInformation, Status
+from navcore.types import Twist
+
+
+class CancelControl(Leaf):
+    """Stop the robot: write a zero ``cmd_vel`` this tick and SUCCEED (Nav2's ``CancelControl``
+    cancels the controller server's FollowPath goal, which stops the base; here the
+    controller is a plain call, so cancelling means commanding zero). Nav2 uses it before a
+    Wait when a new path is much longer near the goal (PathLongerOnApproach)."""
+
+    INPUT_PORTS: dict[str, PortInformation] = {}
+    OUTPUT_PORTS = {"cmd_vel": PortInformation(Twist, True, "zero velocity command")}
+    DEFAULT_KEYS = {"cmd_vel": "cmd_vel"}
+
+    def setup(self, **kwargs: Any) -> None:
+        pass
+
+    def update(self) -> Status:
+        self.write("cmd_vel", Twist.zero())
+        self.say("control cancelled: zero command")
+        return SUCCESS

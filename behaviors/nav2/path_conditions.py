@@ -1,0 +1,141 @@
+"""PathExpiringTimer, IsWithinPathTrackingBounds (Nav2 conditions) and ValidatePath (Nav2
+main action: the costmap check of IsPathValid with the colliding poses as output)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
+from behaviors.conditions.condition import Condition
+from navcore.costmap.cost_values import LETHAL_OBSTACLE, NO_INFORMATION
+from navcore.path_ops import TrackingFeedback
+from navcore.types import Path
+
+
+class PathExpiringTimer(Condition):
+    """SUCCESS once ``seconds`` passed since the timer started, which restarts it; FAILURE
+    before. A new ``path`` restarts the timer. The first tick of the node's life starts it and
+    returns FAILURE (Nav2 ``PathExpiringTimer``: its memory outlives halts)."""
+
+    INPUT_PORTS = {
+        "seconds": PortInformation(float, False, "period, s", 1.0),
+        "path": PortInformation(Path, False, "path whose change restarts the timer"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"path": "path"}
+
+    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
+        super().__init__(*args, **kwargs)
+        self._first = True
+
+    def update(self) -> Status:
+        now, path = self.clock.now(), self.read("path")
+        if self._first:
+            self._first, self._path, self._start = False, path, now
+            self._period = self.get_input("seconds")
+            return FAILURE
+        if path is not self._path:
+            self._path, self._start = path, now
+        if now - self._start < self._period:
+            self.say("{:.1f} of {:.1f} s", now - self._start, self._period)
+            return FAILURE
+        self._start = now
+        return SUCCESS
+
+    def new_run(self) -> None:
+        self._first = True
+
+
+class IsWithinPathTrackingBounds(Condition):
+    """SUCCESS while FollowPath's ``tracking_feedback`` is within bounds: cross-track error
+    at most ``max_error_left`` m (robot left of the path) or ``max_error_right`` m (right), and
+    heading error at most ``max_error_heading`` rad (negative bounds count as their size).
+    SUCCESS also while there is no feedback yet. (Nav2 main ``IsWithinPathTrackingBounds``.)"""
+
+    INPUT_PORTS = {
+        "max_error_left": PortInformation(float, False, "allowed error left of the path, m",
+                                          0.5),
+        "max_error_right": PortInformation(float, False, "allowed error right of the path, m",
+                                           0.5),
+        "max_error_heading": PortInformation(float, False, "allowed heading error, rad", 3.14),
+        "tracking_feedback": PortInformation(TrackingFeedback, False,
+                                             "FollowPath's tracking feedback"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"tracking_feedback": "tracking_feedback"}
+
+    def update(self) -> Status:
+        fb = self.read("tracking_feedback")
+        if fb is None:
+            return SUCCESS
+        err = fb.position_tracking_error
+        bound = abs(self.get_input("max_error_left" if err >= 0.0 else "max_error_right"))
+        ok = abs(err) <= bound and \
+            abs(fb.heading_tracking_error) <= abs(self.get_input("max_error_heading"))
+        if not ok:
+            self.say("out of tracking bounds: {:.2f} m, {:.2f} rad", err,
+                     fb.heading_tracking_error)
+        return SUCCESS if ok else FAILURE
+
+
+class ValidatePath(Condition):
+    """SUCCESS when no pose of ``path`` lies on a global-costmap cell costlier than
+    ``max_cost`` (unknown cells count when ``consider_unknown_as_obstacle``); FAILURE
+    otherwise, with the offending poses in ``collision_poses`` (all of them, or the first
+    with ``stop_at_first_collision``; only within ``max_lookahead_distance`` m along the path
+    when it is positive). (Nav2 main ``ValidatePath``; ``layer_name``/``footprint`` are
+    accepted, the master costmap and the path points are checked.)"""
+
+    CATEGORY = "Action"
+    INPUT_PORTS = {
+        "path": PortInformation(Path, True, "path to check"),
+        "max_cost": PortInformation(int, False, "highest acceptable cell cost",
+                                    LETHAL_OBSTACLE),  # Nav2: 254
+        "consider_unknown_as_obstacle": PortInformation(bool, False, "unknown cells block",
+                                                        False),
+        "layer_name": PortInformation(str, False, "Nav2's costmap layer; the master here", ""),
+        "footprint": PortInformation(str, False, "Nav2's footprint string; unused", ""),
+        "stop_at_first_collision": PortInformation(bool, False, "report only the first", True),
+        "max_lookahead_distance": PortInformation(float, False, "path length checked, m; "
+                                                  "<= 0 = all", -1.0),
+    }
+    OUTPUT_PORTS = {"collision_poses": PortInformation(list, False, "Pose2D that collide")}
+    DEFAULT_KEYS = {"path": "path"}
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        self.costmap = self.component(kwargs, "global_costmap")
+
+    def update(self) -> Status:
+        path = self.read("path")
+        if path is None or len(path) == 0:
+            self.say("no path")
+            self.write("collision_poses", [])
+            return FAILURE
+        grid = self.costmap.costmap
+        max_cost = self.get_input("max_cost")
+        unknown_blocks = self.get_input("consider_unknown_as_obstacle")
+        lookahead = self.get_input("max_lookahead_distance")
+        first_only = self.get_input("stop_at_first_collision")
+        bad: list = []
+        travelled, prev = 0.0, None
+        for i, (x, y, _) in enumerate(path.poses):
+            if prev is not None:
+                travelled += float(((x - prev[0]) ** 2 + (y - prev[1]) ** 2) ** 0.5)
+            prev = (x, y)
+            if lookahead > 0.0 and travelled > lookahead:
+                break
+            cell = grid.world_to_map(float(x), float(y))
+            if cell is None:
+                continue
+            cost = int(grid.costs[cell[1], cell[0]])
+            if cost == NO_INFORMATION and not unknown_blocks:
+                continue
+            if cost > max_cost or (cost == NO_INFORMATION and unknown_blocks):
+                bad.append(path.pose(i))
+                if first_only:
+                    break
+        self.write("collision_poses", bad)
+        if bad:
+            self.say(f"{len(bad)} path poses collide, first at ({bad[0].x:.2f}, {bad[0].y:.2f})")
+        return FAILURE if bad else SUCCESS
