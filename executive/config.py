@@ -456,6 +456,22 @@ def _resolve_footprint(doc: Mapping[str, Any], robot: dict[str, Any], report: _R
         return
 
 
+def _note_safety_clips(values: Mapping[str, Parameters], report: _Report) -> None:
+    """A note for each local planner limit the safety gate's hard limit is tighter than (the
+    gate clips such commands; ROS has no gate, so a ROS file does not say)."""
+    safety = values.get("safety")
+    for ns in ("DWAPlannerROS", "TrajectoryPlannerROS"):
+        planner = values.get(ns)
+        if planner is None or safety is None:
+            continue
+        for key in ("max_vel_x", "max_vel_theta"):
+            mine, gate = abs(getattr(planner, key, 0.0)), getattr(safety, key)
+            if mine > gate:
+                report.add("note", (ns, key), f"safety: {key} = {gate:g} clips {ns}.{key} = "
+                           f"{mine:g} (the gate's hard limit; raise safety.{key} if the base "
+                           "allows)")
+
+
 def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
                         origins: Mapping[tuple, str] | None = None,
                         notes: list[Note] | None = None) -> RobotConfig:
@@ -545,6 +561,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
     for ns in ("global_costmap", "local_costmap"):
         if ns in raw:
             raw[ns] = _check_costmap(raw[ns], ns, robot.footprint, robot.robot_radius, report)
+    _note_safety_clips(values, report)
     errors = report.errors()
     if errors:
         raise ConfigError("\n".join(str(n) for n in errors), report.notes)
