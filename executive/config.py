@@ -372,6 +372,8 @@ def _check_costmap(body: dict[str, Any], ns: str, footprint: list, radius: float
     body = _costmap_body(body, ns, report)
     if importlib.util.find_spec("navcore.costmap.layered") is None:
         return body  # the costmap component is not installed: nothing to check against
+    if not _costmap_size_ok(body, ns, report):
+        return body  # building it to check it would take the memory it is refused for
     from navcore.maps import OccupancyGrid
     import numpy as np
     trial = _deep_copy(body)
@@ -402,6 +404,31 @@ def _check_costmap(body: dict[str, Any], ns: str, footprint: list, radius: float
             report.add("ignored", (ns,), w)
         break
     return body
+
+
+def _costmap_size_ok(body: Mapping[str, Any], ns: str, report: _Report) -> bool:
+    """Refuse (by arithmetic, before anything is allocated) a costmap of more cells than a map
+    may have; a static layer's map is bounded when it is read."""
+    from navcore.maps import MAX_MAP_CELLS
+    from navcore.costmap.layered import COSTMAP_PARAMS
+    defaults = {p.name: p.default for p in COSTMAP_PARAMS}
+    dims = []
+    for key in ("width", "height", "resolution"):
+        v = body.get(key, defaults[key])
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+                or v < 0:
+            return True  # a malformed value: the build below names it
+        dims.append(float(v))
+    width, height, res = dims
+    if res <= 0:
+        return True
+    cells = math.ceil(width / res) * math.ceil(height / res)
+    if cells > MAX_MAP_CELLS:
+        key = "width" if "width" in body else "height" if "height" in body else "resolution"
+        report.add("error", (ns, key), f"{ns}: {width:g} m x {height:g} m at {res:g} m is "
+                   f"{cells:.4g} cells, more than the limit of {MAX_MAP_CELLS}")
+        return False
+    return True
 
 
 def make_costmap(params: dict[str, Any], grid: Any, name: str, clock: Any = None) -> Any:
@@ -509,8 +536,13 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
                     report.add("error", (ns, "devices", k), f"robot: devices: unknown device "
                                f"'{k}'{suggest(str(k), ('base', 'laser', 'imu'))}")
                     continue
+                url = v.get("url") if isinstance(v, Mapping) else v
+                if not isinstance(url, str):
+                    report.add("error", (ns, "devices", k), f"robot: devices: {k} must be a URL "
+                               f"string or {{url: URL, ...}}, got {v!r}")
+                    continue
                 if k in ("base", "laser"):
-                    body[k] = v if isinstance(v, str) else str(dict(v).get("url", ""))
+                    body[k] = url
             device_map = dev
         if ns == "robot":
             _resolve_footprint(doc, body, report)
@@ -562,6 +594,10 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
         if ns in raw:
             raw[ns] = _check_costmap(raw[ns], ns, robot.footprint, robot.robot_radius, report)
     _note_safety_clips(values, report)
+    amcl = values.get("amcl")
+    if amcl is not None and amcl.min_particles > amcl.max_particles:
+        report.add("error", ("amcl", "min_particles"), f"amcl: min_particles "
+                   f"({amcl.min_particles}) must not exceed max_particles ({amcl.max_particles})")
     errors = report.errors()
     if errors:
         raise ConfigError("\n".join(str(n) for n in errors), report.notes)

@@ -116,3 +116,25 @@ def test_costmap_namespaces_checked_by_building_them():
         config_from_mapping({"global_costmap": {"plugins": ["inflation_layer"],
                                                 "inflation_layer": {"inflation_radius": -1}}},
                             "r.yaml")
+
+
+@pytest.mark.parametrize("doc,needle", [
+    ({"amcl": {"min_particles": 500, "max_particles": 100}}, "must not exceed max_particles"),
+    ({"amcl": {"max_particles": 100_000_000}}, "'max_particles' = 100000000 is above"),
+    ({"CarrotPlanner": {"step_size": -1.0}}, "CarrotPlanner: parameter 'step_size'"),
+    ({"TrajectoryPlannerROS": {"sim_time": -1.0}}, "TrajectoryPlannerROS: parameter 'sim_time'"),
+    ({"robot": {"devices": {"base": 5}}}, "devices: base must be a URL"),
+    ({"local_costmap": {"rolling_window": True, "width": 1000.0, "height": 1000.0}},
+     "4e+08 cells, more than the limit"),
+    ({"safety": {"sensor_timeout": float("inf")}}, "'sensor_timeout' must be finite"),
+])
+def test_what_building_would_refuse_is_refused_at_load(doc, needle):
+    import tracemalloc
+    tracemalloc.start()
+    try:
+        with pytest.raises(ConfigError, match=needle.replace("(", r"\(").replace("+", r"\+")):
+            config_from_mapping(doc, "r.yaml")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50e6  # the 1000 m costmap is refused by arithmetic, not by building it

@@ -14,10 +14,13 @@ from navcore.params import Param
 LASER_MODELS = ("beam", "likelihood_field", "likelihood_field_prob")
 ODOM_MODELS = ("diff", "omni", "diff-corrected", "omni-corrected")
 
+# Limit (docs/limits.md): the filter allocates arrays of max_particles poses and weights.
+MAX_PARTICLES = 100_000
+
 AMCL_PARAMS: tuple[Param, ...] = (
     # overall filter
-    Param("min_particles", 100, int, "minimum number of particles", min=1),
-    Param("max_particles", 5000, int, "maximum number of particles", min=1),
+    Param("min_particles", 100, int, "minimum number of particles", min=1, max=MAX_PARTICLES),
+    Param("max_particles", 5000, int, "maximum number of particles", min=1, max=MAX_PARTICLES),
     Param("kld_err", 0.01, float, "max error between true and estimated distribution (KLD)",
           min=1e-9, max=1.0),
     Param("kld_z", 0.99, float, "KLD quantile; used literally as z like amcl's pf.c", min=0.0),

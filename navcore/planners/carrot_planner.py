@@ -40,6 +40,16 @@ def costmap_footprint_cost(costmap: Costmap2D, footprint: np.ndarray) -> Footpri
     return cost
 
 
+# step_size defaults to the costmap's resolution (replaced per instance); the table is what a
+# robot config's CarrotPlanner namespace is checked against at load time.
+CARROT_PLANNER_PARAMS = (
+    Param("step_size", 0.05, float, "m between candidate poses walking back from the goal "
+          "(default: the costmap resolution)", min=1e-3, max=10.0),
+    Param("min_dist_from_robot", 0.10, float,
+          "m: give up once the candidate is this close to the robot", min=0.0, max=100.0),
+)
+
+
 class CarrotPlanner:
     """Straight-line planner; ``footprint_cost(x, y, theta)`` gives the max cost under the
     footprint at that pose (-1 off the map). ``make_plan`` gives a path or
@@ -51,12 +61,9 @@ class CarrotPlanner:
             raise TypeError("CarrotPlanner: footprint_cost must be callable (x, y, theta) -> int")
         self.costmap = costmap
         self.footprint_cost = footprint_cost
-        specs = (
-            Param("step_size", float(costmap.resolution), float,
-                  "m between candidate poses walking back from the goal", min=1e-6),
-            Param("min_dist_from_robot", 0.10, float,
-                  "m: give up once the candidate is this close to the robot", min=0.0),
-        )
+        step = CARROT_PLANNER_PARAMS[0]
+        specs = (Param(step.name, float(costmap.resolution), float, step.doc, step.min, step.max),
+                 *CARROT_PLANNER_PARAMS[1:])
         self.params = Parameters(specs, params, where="CarrotPlanner")
 
     def acceptable(self, x: float, y: float, theta: float) -> bool:
