@@ -39,10 +39,21 @@ def open_timing(run_dir: str | os.PathLike) -> TextIO:
     return open(d / "timing.jsonl", "w", encoding="utf-8")
 
 
-def open_recorder(run_dir: str | os.PathLike) -> Recorder:
-    """A Recorder writing ``run_dir/ticks.jsonl`` (and ``timing.jsonl``) and capturing what the
-    pictures need (close it with ``recorder.close()``)."""
-    return Recorder(open_log(run_dir), sinks=[RunCapture()], timing=open_timing(run_dir))
+def open_recorder(run_dir: str | os.PathLike, grid: OccupancyGrid | None = None,
+                  mcap: bool = True, sinks: Sequence[Any] = ()) -> Recorder:
+    """A Recorder writing ``run_dir/ticks.jsonl`` (and ``timing.jsonl``), capturing what the
+    pictures need and, when foxglove-sdk is installed and ``mcap``, writing ``run_dir/run.mcap``
+    (with ``grid`` as /map); ``sinks`` are added too (the live server). Close it with
+    ``recorder.close()``."""
+    stream = open_log(run_dir)
+    kept: list[Any] = [RunCapture()]
+    if mcap:
+        try:
+            from executive.foxglove_out import FoxgloveSink
+            kept.append(FoxgloveSink(mcap_path=FsPath(run_dir) / "run.mcap", grid=grid))
+        except ImportError:
+            pass  # foxglove-sdk is an optional extra: summary.json says the file is missing
+    return Recorder(stream, sinks=kept + list(sinks), timing=open_timing(run_dir))
 
 
 def capture_of(ex: Executive) -> RunCapture | None:
@@ -85,6 +96,12 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
              str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title,
              capture=capture_of(ex))
+    fox = [s for s in ex.recorder.sinks if type(s).__name__ == "FoxgloveSink"
+           and s.writer is not None]
+    if fox:
+        summary["mcap_messages"] = dict(fox[0].counts)
+    elif ex.recorder.sinks:
+        summary["mcap_missing"] = "foxglove-sdk is not installed: pip install 'navbt[foxglove]'"
     cap = capture_of(ex)
     if cap is not None and cap.header:
         header, lines, footer = cap.header, cap.lines, cap.footer

@@ -399,7 +399,7 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     recorder = Recorder(None)
     if record_dir is not None:
         from executive.run_folder import open_recorder
-        recorder = open_recorder(record_dir)
+        recorder = open_recorder(record_dir, grid=scenario.grid)
     try:
         mission = build_mission(tree_path, config, scenario.grid, scenario.start, world=world,
                                 seed=scenario.seed, recorder=recorder,

@@ -17,7 +17,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--start", type=parse_pose, metavar="X,Y,YAW",
                    help="start pose in the simulator (default: the most open free cell)")
     p.add_argument("--realtime", action="store_true", help="run at wall-clock speed")
-    p.add_argument("--record", metavar="DIR", help="write a run folder to DIR")
+    p.add_argument("--record", metavar="DIR", help="write a run folder to DIR (tick log, "
+                                                   "pictures, replay.html, run.mcap)")
+    p.add_argument("--live", action="store_true",
+                   help="serve the run over Foxglove's WebSocket protocol while it runs "
+                        "(needs navbt[foxglove]); open ws://HOST:PORT in Foxglove")
+    p.add_argument("--host", default="127.0.0.1",
+                   help="--live: address to bind (default 127.0.0.1, this machine only)")
+    p.add_argument("--port", type=int, default=8765, help="--live: port (default 8765)")
+    p.add_argument("--rate", type=float, default=1.0,
+                   help="--live: simulated seconds per wall second (default 1: real time; "
+                        "0: as fast as it runs)")
     p.add_argument("--seed", type=int, default=0, help="simulator random seed (default 0)")
     p.add_argument("--time-limit", type=float, default=600.0, help="simulated seconds (600)")
     hw = p.add_mutually_exclusive_group()
@@ -31,6 +41,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     import os
+    import sys
 
     from executive.config import ConfigError
     from executive.loading import TreeLoadError
@@ -53,10 +64,24 @@ def run(args: argparse.Namespace) -> int:
             return fail("run", f"--goal {g.x:g},{g.y:g}: outside the map {args.map}")
     # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
     start = args.start if args.hw else (args.start or free_start(grid))
-    recorder = Recorder(None)
+    live = []
+    if args.live:
+        from executive.foxglove_out import FoxgloveSink, FoxgloveUnavailable
+        if args.rate < 0:
+            return fail("run", f"--rate {args.rate:g}: must be >= 0")
+        try:
+            live = [FoxgloveSink(live=True, host=args.host, port=args.port,
+                                 rate=args.rate or None, grid=grid)]
+        except FoxgloveUnavailable as e:
+            return fail("run", f"--live: {e}")
+        except RuntimeError as e:   # the port is taken, the address is not ours, ...
+            return fail("run", f"--live: cannot serve on {args.host}:{args.port} ({e})")
+        print(f"live: ws://{args.host}:{live[0].port} (Foxglove: open a connection to it)",
+              file=sys.stderr)
+    recorder = Recorder(None, sinks=live)
     if args.record:
         from executive.run_folder import open_recorder
-        recorder = open_recorder(args.record)
+        recorder = open_recorder(args.record, grid=grid, sinks=live)
     try:
         mission = build_mission(args.tree, config, grid, start, seed=args.seed,
                                 realtime=args.realtime, recorder=recorder,
