@@ -227,7 +227,8 @@ def test_demo_runs_and_writes_run_folder(tmp_path, capsys):
     assert lines[-1] == str(out_dir)
     assert lines[-2].startswith("succeeded in ") and "collisions: 0" in lines[-2]
     assert "\r" not in out  # the progress line stays quiet when stdout is not a terminal
-    assert sorted(p.name for p in out_dir.iterdir()) == ["replay.html", "run.png",
+    # (run.mcap needs the foxglove extra, which the test command installs)
+    assert sorted(p.name for p in out_dir.iterdir()) == ["replay.html", "run.mcap", "run.png",
                                                           "summary.json", "ticks.jsonl",
                                                           "timing.jsonl", "tree.svg"]
     summary = json.loads((out_dir / "summary.json").read_text())
