@@ -305,3 +305,37 @@ def test_tune_finds_the_faster_speed_and_writes_an_overlay(tmp_path, catalogue):
     # the store holds each distinct run once, however many trials asked for it
     store = ResultStore(str(tmp_path / "tune"))
     assert store.count() == len({json.dumps(r["point"]) for r in store.records()}) <= 2
+
+
+def test_a_point_changes_one_value_of_a_layer_and_keeps_the_rest(catalogue):
+    from executive.scenario import load_scenario, scenario_config
+    from executive.sweeps.apply import apply_point
+    sc = load_scenario(catalogue / "straight.yaml")
+    s = apply_point(sc, {"global_costmap.inflation_layer.inflation_radius": 0.35}, None)
+    layer = scenario_config(s).ns("global_costmap")["inflation_layer"]
+    assert layer == {"inflation_radius": 0.35, "cost_scaling_factor": 10.0}   # robot.yaml's
+    assert scenario_config(s).ns("local_costmap")["inflation_layer"]["inflation_radius"] == 0.55
+
+
+def test_sweep_over_ros_parameter_files(tmp_path, catalogue):
+    """``params:`` loads rosparam files as ``--params`` does; the point goes on top."""
+    (tmp_path / "dwa.yaml").write_text("DWAPlannerROS:\n  max_vel_x: 0.25\n  sim_time: 1.2\n",
+                                       encoding="utf-8")
+    spec = load_sweep(_spec(tmp_path, """\
+        scenarios: scenarios/straight.yaml
+        params: [dwa.yaml]
+        grid:
+          DWAPlannerROS.sim_time: [1.5, 2.5]
+        """))
+    from executive.config import ConfigSources
+    from executive.scenario import load_scenario, scenario_config
+    from executive.sweeps.apply import apply_point
+    assert isinstance(spec.config, ConfigSources)
+    t = spec.tasks()[1]
+    s = apply_point(load_scenario(t.scenario), dict(t.point), t.config)
+    dwa = scenario_config(s, t.config).ns("DWAPlannerROS")
+    assert (dwa["max_vel_x"], dwa["sim_time"]) == (0.25, 2.5)
+    # the base config is part of a run's identity
+    other = load_sweep(_spec(tmp_path, "scenarios: scenarios/straight.yaml\n"
+                                       "grid:\n  DWAPlannerROS.sim_time: [1.5, 2.5]\n"))
+    assert {x.run_id for x in spec.tasks()}.isdisjoint({x.run_id for x in other.tasks()})

@@ -43,24 +43,59 @@ def merged_params(base: Mapping[str, Any], params: Mapping[str, Any]) -> dict[st
     return out
 
 
-def apply_point(scenario: Any, point: Mapping[str, Any], config_path: str | None,
+def apply_point(scenario: Any, point: Mapping[str, Any], config: Any,
                 seed: int | None = None, time_limit: float | None = None) -> Any:
-    """A copy of ``scenario`` with the point's parameters merged into its ``params`` (and the
-    seed / time limit replaced); raises ApplyError when the merged robot config is invalid."""
-    from executive.config import ConfigError
+    """A copy of ``scenario`` with the point's parameters merged deeply into its ``params`` (over
+    the base robot config ``config``: a path or ``ConfigSources``), and the seed / time limit
+    replaced; raises ApplyError when the merged robot config is invalid."""
+    from executive.config import ConfigError, ConfigSources, merged_doc
     from executive.scenario import ScenarioError, scenario_config
     params, _ = split_point(point)
     s = copy.copy(scenario)
-    s.params = merged_params(scenario.params, params)
-    if seed is not None:
-        s.seed = int(seed)
-    if time_limit is not None:
-        s.time_limit = float(time_limit)
     try:
-        scenario_config(s, config_path)
+        if params:
+            sources = config if isinstance(config, ConfigSources) else ConfigSources(config=config)
+            base, _, _ = merged_doc(sources)
+            touched = {k.split(".")[0] for k in params}
+            # the base namespace, then the scenario's own values, then the point: all deep, so a
+            # point that sets one value of a layer keeps the layer's other values
+            layered = {ns: merged_params(base.get(ns) or {}, _dotted(scenario.params.get(ns)))
+                       for ns in touched}
+            s.params = merged_params(dict(scenario.params, **layered), params)
+        if seed is not None:
+            s.seed = int(seed)
+        if time_limit is not None:
+            s.time_limit = float(time_limit)
+        merged = scenario_config(s, config)
     except (ConfigError, ScenarioError) as e:
         raise ApplyError(_strip_source(str(e))) from None
+    _refuse_adjusted(merged, params)
     return s
+
+
+def _refuse_adjusted(config: Any, params: Mapping[str, Any]) -> None:
+    """A point's value that the loader would clamp or rename (ROS leniency, with a warning) is an
+    error in a sweep: the run would not test the value the sweep file names."""
+    for note in getattr(config, "report", []):
+        if getattr(note, "level", "") != "warning":
+            continue
+        text = str(note)
+        for key in params:
+            ns, _, name = key.partition(".")
+            if f"{ns}:" in text and f"'{name.split('.')[-1]}'" in text:
+                raise ApplyError(f"'{key}': {text.partition('warning: ')[2] or text}")
+
+
+def _dotted(values: Any, prefix: str = "") -> dict[str, Any]:
+    """``{a: {b: 1}}`` -> ``{"a.b": 1}`` (lists and scalars are leaves)."""
+    out: dict[str, Any] = {}
+    for k, v in (values or {}).items():
+        key = f"{prefix}{k}"
+        if isinstance(v, Mapping) and v:
+            out.update(_dotted(v, key + "."))
+        else:
+            out[key] = v
+    return out
 
 
 def _strip_source(message: str) -> str:

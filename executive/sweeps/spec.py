@@ -24,8 +24,9 @@ import yaml
 
 from navcore.params import suggest
 
-TOP_KEYS = ("name", "description", "scenarios", "seeds", "trees", "config", "grid", "zip",
-            "points", "time_limit", "search", "trials", "objective", "sampler_seed")
+TOP_KEYS = ("name", "description", "scenarios", "seeds", "trees", "config", "launch", "args",
+            "params", "nav2_params", "grid", "zip", "points", "time_limit", "search", "trials",
+            "sampler_seed")
 SEARCH_KEYS = ("low", "high", "log", "step", "choices")
 MAX_RUNS = 1_000_000
 
@@ -42,7 +43,7 @@ class RunTask:
     seed: int
     tree: str                # path
     point: tuple[tuple[str, Any], ...]   # sorted (key, value) pairs
-    config: str | None = None
+    config: Any = None       # the base robot config: None (bundled), a path or ConfigSources
     time_limit: float | None = None
 
     @property
@@ -50,8 +51,20 @@ class RunTask:
         """Stable identity of the run: the same run has the same id in every sweep and resume."""
         body = json.dumps([os.path.basename(self.scenario), _rel(self.scenario), self.seed,
                            os.path.basename(self.tree), list(map(list, self.point)),
-                           self.time_limit], sort_keys=True, default=repr)
+                           self.time_limit, _config_id(self.config)], sort_keys=True,
+                          default=repr)
         return hashlib.sha256(body.encode()).hexdigest()[:20]
+
+
+def _config_id(config: Any) -> Any:
+    """What names a base config in a run id: file names and launch args, not folders."""
+    if config is None:
+        return None
+    if isinstance(config, str):
+        return os.path.basename(config)
+    return [os.path.basename(config.config or ""), os.path.basename(config.launch or ""),
+            sorted(config.args.items()), [os.path.basename(p) for p in config.params],
+            [os.path.basename(p) for p in config.nav2_params]]
 
 
 def _rel(path: str) -> str:
@@ -80,7 +93,7 @@ class SweepSpec:
     scenarios: list[str]
     seeds: list[int] | None
     trees: list[str]
-    config: str | None
+    config: Any          # None, a robot YAML path, or ConfigSources (launch / rosparam / Nav2)
     points: list[dict[str, Any]]
     time_limit: float | None = None
     search: list[SearchDim] = field(default_factory=list)
@@ -306,6 +319,36 @@ def _search(doc: Mapping[str, Any], err: _Where) -> list[SearchDim]:
     return dims
 
 
+def _config(doc: Mapping[str, Any], base: str, err: _Where) -> Any:
+    """``config:`` (a robot YAML) and/or ROS files: ``launch:`` with ``args:``, ``params:``
+    (``FILE[:NAMESPACE]``), ``nav2_params:``; paths relative to the sweep file."""
+    from executive.config import ConfigSources
+    robot = None
+    if doc.get("config") is not None:
+        robot = _paths(doc["config"], base, "config", err, globbing=False)[0]
+    ros = [k for k in ("launch", "args", "params", "nav2_params") if doc.get(k) is not None]
+    if not ros:
+        return robot
+    launch = None
+    if doc.get("launch") is not None:
+        launch = _paths(doc["launch"], base, "launch", err, globbing=False)[0]
+    args = doc.get("args") or {}
+    if not isinstance(args, Mapping):
+        raise err(("args",), "args: expected a mapping of launch argument -> value")
+    params = []
+    for i, item in enumerate(doc.get("params") or []):
+        if not isinstance(item, str):
+            raise err(("params", i), "params: expected FILE or FILE:NAMESPACE strings")
+        f, sep, ns = item.partition(":")
+        path = _paths(f, base, "params", err, globbing=False)[0]
+        params.append(path + sep + ns)
+    nav2 = _paths(doc["nav2_params"], base, "nav2_params", err, globbing=False) \
+        if doc.get("nav2_params") is not None else []
+    return ConfigSources(config=robot, launch=launch, args={str(k): str(v)
+                                                            for k, v in args.items()},
+                         params=params, nav2_params=nav2)
+
+
 def load_sweep(path: str | os.PathLike) -> SweepSpec:
     """Read and check a sweep file, including every point's robot config and tree ports."""
     path = str(path)
@@ -338,9 +381,7 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     else:
         from executive.loading import shipped_tree
         trees = [shipped_tree("smach_recovery")]
-    config = None
-    if doc.get("config") is not None:
-        config = _paths(doc["config"], base, "config", err, globbing=False)[0]
+    config = _config(doc, base, err)
     time_limit = doc.get("time_limit")
     if time_limit is not None and (isinstance(time_limit, bool)
                                    or not isinstance(time_limit, (int, float))

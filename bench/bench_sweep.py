@@ -1,0 +1,114 @@
+"""Sweep throughput: runs per second on one and two local workers, and what Dask adds per run.
+
+A fixed small sweep (two rooms, one with a box the map does not know, 4 seeds x 3 speeds = 24
+runs of the SMACH-style tree) runs on warm workers (the numba kernels loaded, as a sweep's
+workers are after ``warm_worker``), so the figures are the sweep's steady state:
+
+    python bench/bench_sweep.py [--json] [--seeds N]
+
+``scaling_2_workers`` is runs/s on two workers over runs/s on one; ``dask_overhead_ms_per_run``
+is the wall time a Dask LocalCluster (two workers) spends per run beyond the process pool's, set
+against ``median_run_ms`` (the median wall time of one run inside a worker).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing as mp
+import os
+import statistics
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+import yaml  # noqa: E402
+
+from executive.sweeps.runner import run_task, warm_worker  # noqa: E402
+from executive.sweeps.spec import load_sweep  # noqa: E402
+
+_ROOM = "\n".join(["#" * 34] + ["#" + "." * 32 + "#"] * 20 + ["#" * 34])
+SCENARIOS = {
+    "straight": {"map": {"resolution": 0.1, "ascii": _ROOM}, "start": [0.6, 0.6, 0.0],
+                 "goals": [[2.6, 0.6, 0.0]], "time_limit": 30},
+    "past_box": {"map": {"resolution": 0.1, "ascii": _ROOM}, "start": [0.6, 0.7, 0.0],
+                 "goals": [[2.8, 0.7, 0.0]], "objects": [{"box": [1.5, 0.3, 1.7, 0.95]}],
+                 "time_limit": 30},
+}
+
+
+def make_sweep(folder: str, seeds: int) -> str:
+    os.makedirs(os.path.join(folder, "scenarios"), exist_ok=True)
+    for name, doc in SCENARIOS.items():
+        with open(os.path.join(folder, "scenarios", f"{name}.yaml"), "w", encoding="utf-8") as f:
+            yaml.safe_dump(dict(doc, name=name), f)
+    path = os.path.join(folder, "sweep.yaml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(f"name: bench\nscenarios: 'scenarios/*.yaml'\nseeds: 1..{seeds}\n"
+                "grid:\n  DWAPlannerROS.max_vel_x: [0.3, 0.45, 0.55]\n")
+    return path
+
+
+def _noop(_: int) -> int:
+    return os.getpid()
+
+
+def time_pool(tasks: list, workers: int) -> tuple[float, list[dict]]:
+    """Wall time of the tasks on ``workers`` warm processes."""
+    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"),
+                             initializer=warm_worker) as pool:
+        list(pool.map(_noop, range(4 * workers)))        # start and warm every worker
+        t0 = time.perf_counter()
+        results = list(pool.map(run_task, tasks))
+        wall = time.perf_counter() - t0
+    return wall, [dict(r, **t) for r, t in results]
+
+
+def time_dask(tasks: list, workers: int) -> float:
+    from dask.distributed import Client, LocalCluster, wait
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      host="127.0.0.1", dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        client.run(warm_worker)
+        t0 = time.perf_counter()
+        futures = client.map(run_task, tasks, pure=False)
+        wait(futures)
+        wall = time.perf_counter() - t0
+        client.gather(futures)
+    return wall
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true")
+    ap.add_argument("--seeds", type=int, default=4)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as d:
+        tasks = load_sweep(make_sweep(d, args.seeds)).tasks()
+        wall1, recs = time_pool(tasks, 1)
+        wall2, _ = time_pool(tasks, 2)
+        try:
+            wall_dask = time_dask(tasks, 2)
+        except ImportError:
+            wall_dask = None
+    n = len(tasks)
+    median_run_ms = 1000 * statistics.median(r["wall_time_s"] for r in recs)
+    figures = {"runs": n, "runs_per_s_1_worker": round(n / wall1, 2),
+               "runs_per_s_2_workers": round(n / wall2, 2),
+               "scaling_2_workers": round(wall1 / wall2, 3),
+               "median_run_ms": round(median_run_ms, 1)}
+    if wall_dask is not None:
+        overhead = 1000 * (wall_dask - wall2) * 2 / n   # two workers: per-run share of the wall
+        figures["dask_overhead_ms_per_run"] = round(overhead, 2)
+        figures["dask_overhead_share_of_median_run"] = round(overhead / median_run_ms, 3)
+    if not args.json:
+        for k, v in figures.items():
+            print(f"{k:36s} {v}")
+    print(json.dumps(figures) if args.json else "")
+
+
+if __name__ == "__main__":
+    main()
