@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import yaml
 
-from navcore.safe_read import MAX_IMAGE_BYTES, load_yaml, read_bytes
+from navcore.safe_read import MAX_IMAGE_BYTES, load_yaml_keys, read_bytes
 from navcore.types import Pose2D
 
 UNKNOWN = -1
@@ -234,74 +234,96 @@ def image_to_grid(avg: np.ndarray, alpha: np.ndarray | None, mode: str, negate: 
 # ---------------------------------------------------------------- YAML descriptor
 
 
-def _field(meta: dict, key: str, path: str, kind, default=None, required: bool = True):
-    if key not in meta:
-        if required:
-            raise MapError(f"{path}: missing field '{key}'")
-        return default
-    value = meta[key]
-    try:
+class _Fields:
+    """The map descriptor's fields, read one by one; every problem is kept (``file:line:
+    field 'x' ...``) so that one load reports them all."""
+
+    def __init__(self, meta: dict, path: str, lines: dict[str, int]) -> None:
+        self.meta, self.path, self.lines = meta, path, lines
+        self.errors: list[str] = []
+
+    def error(self, key: str, text: str) -> None:
+        self.errors.append(f"{self.path}:{self.lines.get(key, 1)}: {text}")
+
+    def get(self, key: str, kind, default=None, required: bool = True):
+        meta, path = self.meta, self.path
+        if key not in meta:
+            if required:
+                self.errors.append(f"{path}: missing field '{key}'")
+            return default
+        value = meta[key]
         if kind is float:
-            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-                raise TypeError
-            number = float(value)  # a string too, as yaml-cpp's as<double>() reads "1e-3"
-            if not math.isfinite(number):
-                raise MapError(f"{path}: field '{key}' must be a finite number, got {value!r}")
-            return number
-        if kind is bool:
+            if not isinstance(value, bool) and isinstance(value, (int, float, str)):
+                try:
+                    number = float(value)  # a string too, as yaml-cpp's as<double>() reads it
+                except ValueError:
+                    number = None
+                if number is not None:
+                    if not math.isfinite(number):
+                        self.error(key, f"field '{key}' must be a finite number, got {value!r}")
+                        return default
+                    return number
+        elif kind is bool:
             if isinstance(value, bool) or (isinstance(value, (int, float)) and value in (0, 1)):
                 return bool(value)
-            raise TypeError
-        if kind is str:
-            if not isinstance(value, str):
-                raise TypeError
+        elif kind is str and isinstance(value, str):
             return value
-    except (TypeError, ValueError):
-        pass
-    raise MapError(f"{path}: field '{key}' must be {kind.__name__}, got {value!r}")
+        self.error(key, f"field '{key}' must be {kind.__name__}, got {value!r}")
+        return default
 
 
 def load_map(yaml_path: str | os.PathLike) -> OccupancyGrid:
     """Load a map_server YAML descriptor and its image.
 
     An ``image:`` that does not exist (often an absolute path from another machine) falls back to
-    the file of that name beside the YAML.
+    the file of that name beside the YAML. A MapError lists every bad field, one per line.
     """
     path = os.fspath(yaml_path)
-    meta = load_yaml(path, what="map file", error=MapError)
+    meta, lines = load_yaml_keys(path, what="map file", error=MapError)
     if not isinstance(meta, dict):
         raise MapError(f"{path}: expected a mapping of map fields, got {type(meta).__name__}")
-
-    image = _field(meta, "image", path, str)
-    resolution = _field(meta, "resolution", path, float)
-    if not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
-        raise MapError(f"{path}: field 'resolution' must be in [{MIN_RESOLUTION}, "
-                       f"{MAX_RESOLUTION}] m, got {resolution}")
+    f = _Fields(meta, path, lines)
+    image = f.get("image", str)
+    resolution = f.get("resolution", float)
+    if resolution is not None and not MIN_RESOLUTION <= resolution <= MAX_RESOLUTION:
+        f.error("resolution", f"field 'resolution' must be in [{MIN_RESOLUTION}, "
+                f"{MAX_RESOLUTION}] m, got {resolution}")
     origin = meta.get("origin")
     if (not isinstance(origin, (list, tuple)) or len(origin) != 3
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in origin)):
-        raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {origin!r}")
-    if not all(math.isfinite(float(v)) for v in origin) or max(map(abs, origin[:2])) > MAX_ORIGIN:
-        raise MapError(f"{path}: field 'origin' must be finite with |x|, |y| <= {MAX_ORIGIN:g} m, "
-                       f"got {origin!r}")
-    negate = _field(meta, "negate", path, bool)
-    occ_th = _field(meta, "occupied_thresh", path, float)
-    free_th = _field(meta, "free_thresh", path, float)
-    if not 0.0 <= free_th < occ_th <= 1.0:
-        raise MapError(f"{path}: fields 'free_thresh' ({free_th}) and 'occupied_thresh' "
-                       f"({occ_th}) must satisfy 0 <= free_thresh < occupied_thresh <= 1")
-    mode = _field(meta, "mode", path, str, "trinary", required=False)
+        f.error("origin", f"field 'origin' must be [x, y, yaw], got {origin!r}")
+        origin = None
+    elif not all(math.isfinite(float(v)) for v in origin) or max(map(abs, origin[:2])) > MAX_ORIGIN:
+        f.error("origin", f"field 'origin' must be finite with |x|, |y| <= {MAX_ORIGIN:g} m, "
+                f"got {origin!r}")
+    negate = f.get("negate", bool)
+    occ_th = f.get("occupied_thresh", float)
+    free_th = f.get("free_thresh", float)
+    if occ_th is not None and free_th is not None and not 0.0 <= free_th < occ_th <= 1.0:
+        f.error("free_thresh", f"fields 'free_thresh' ({free_th}) and 'occupied_thresh' "
+                f"({occ_th}) must satisfy 0 <= free_thresh < occupied_thresh <= 1")
+    mode = f.get("mode", str, "trinary", required=False)
     if mode not in _MODES:
-        raise MapError(f"{path}: field 'mode' must be one of {', '.join(_MODES)}, got {mode!r}")
-
-    image_path = image if os.path.isabs(image) else os.path.join(os.path.dirname(path), image)
-    if not os.path.exists(image_path):
-        beside = os.path.join(os.path.dirname(path), os.path.basename(image))
-        if not os.path.exists(beside):
-            raise MapError(f"{path}: field 'image': file {image!r} not found "
-                           f"(nor {os.path.basename(image)!r} beside the YAML)")
-        image_path = beside
-    avg, alpha = _read_image(image_path, mode)
+        f.error("mode", f"field 'mode' must be one of {', '.join(_MODES)}, got {mode!r}")
+        mode = "trinary"
+    image_path = None
+    if image is not None:
+        image_path = image if os.path.isabs(image) else os.path.join(os.path.dirname(path), image)
+        if not os.path.exists(image_path):
+            beside = os.path.join(os.path.dirname(path), os.path.basename(image))
+            if os.path.exists(beside):
+                image_path = beside
+            else:
+                f.error("image", f"field 'image': file {image!r} not found "
+                        f"(nor {os.path.basename(image)!r} beside the YAML)")
+                image_path = None
+    if image_path is not None:
+        try:
+            avg, alpha = _read_image(image_path, mode)
+        except MapError as e:
+            f.errors.append(str(e))
+    if f.errors:
+        raise MapError("\n".join(f.errors))
     data = image_to_grid(avg, alpha, mode, negate, occ_th, free_th)
     return OccupancyGrid(data, resolution, Pose2D(*(float(v) for v in origin)))
 

@@ -246,6 +246,19 @@ def load_yaml(path: str | os.PathLike, *, what: str = "file", error: ErrorType =
     return parse_yaml(read_text(file, what=what, error=error, limit=limit), file, error=error)
 
 
+def load_yaml_keys(path: str | os.PathLike, *, what: str = "file", error: ErrorType = ReadError,
+                   limit: int = MAX_TEXT_BYTES) -> tuple[Any, dict[str, int]]:
+    """``load_yaml`` plus the 1-based line of each top-level key (for errors naming a field)."""
+    file = os.fspath(path)
+    node = compose_yaml(read_text(file, what=what, error=error, limit=limit), file, error=error)
+    if node is None:
+        return None, {}
+    lines = {}
+    if isinstance(node, yaml.MappingNode):
+        lines = {k.value: line_of(k) for k, _ in node.value if isinstance(k, yaml.ScalarNode)}
+    return node_value(node, file, error=error), lines
+
+
 def line_of(node: yaml.Node | None) -> int:
     """1-based line of a composed node (1 when unknown)."""
     return node.start_mark.line + 1 if node is not None and node.start_mark is not None else 1
