@@ -119,7 +119,9 @@ def test_run_broken_map_and_config(tmp_path, capsys):
     code, _, err = run_cli(capsys, "run", "trees/x.yaml", "--map", str(bad_map),
                            "--goal", "1,1,0")
     assert code == 1 and err.startswith("mission run: ") and "m.yaml" in err
-    assert len(err.strip().splitlines()) == 1
+    # every bad field of the map, one line each (missing negate and thresholds, the image)
+    lines = err.strip().splitlines()
+    assert len(lines) == 4 and all("m.yaml" in ln for ln in lines) and "Traceback" not in err
     cfg = tmp_path / "robot.yaml"
     cfg.write_text("move_base: {controller_frequency: 0}\n")
     code, _, err = run_cli(capsys, "run", "trees/x.yaml", "--config", str(cfg),
