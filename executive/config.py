@@ -483,6 +483,19 @@ def _resolve_footprint(doc: Mapping[str, Any], robot: dict[str, Any], report: _R
         return
 
 
+def _misplaced(key: str, known: Iterable[str]) -> str:
+    """The hint for a top-level key that is not a namespace: where a ROS parameter of that name
+    belongs (a costmap file pasted without its namespace), else the closest namespace."""
+    from executive.ros_params import COSTMAP_ONLY, SEARCHED_BY_COSTMAPS
+    if key in COSTMAP_ONLY or key in SEARCHED_BY_COSTMAPS:
+        return (f": '{key}' is a costmap parameter; put it under global_costmap: / "
+                "local_costmap: (or load the ROS file with --params FILE:local_costmap)")
+    if key in {p.name for p in MOVE_BASE_PARAMS}:
+        return (f": '{key}' is a move_base parameter; put it under move_base: (or load the "
+                "ROS file with --params FILE)")
+    return suggest(key, known)
+
+
 def _note_safety_clips(values: Mapping[str, Parameters], report: _Report) -> None:
     """A note for each local planner limit the safety gate's hard limit is tighter than (the
     gate clips such commands; ROS has no gate, so a ROS file does not say)."""
@@ -519,7 +532,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
     raw: dict[str, dict[str, Any]] = {}
     for ns, body in doc.items():
         if ns not in known:
-            report.add("error", (ns,), f"unknown namespace '{ns}'{suggest(str(ns), known)}")
+            report.add("error", (ns,), f"unknown namespace '{ns}'{_misplaced(str(ns), known)}")
             continue
         if body is None:
             body = {}

@@ -96,6 +96,10 @@ _NAV2_BT_LIBS = {"nav2_compute_path_to_pose_action_bt_node": "ComputePathToPose"
                      "ReinitializeGlobalLocalization"}
 
 
+# The behavior_server's plugins, by their navbt node names.
+_RECOVERY_NODES = ("Spin", "BackUp", "DriveOnHeading", "Wait", "AssistedTeleop")
+
+
 class _Mapper:
     def __init__(self, file: str, lines: Mapping[Path_, int]) -> None:
         self.file = file
@@ -344,6 +348,35 @@ class _Mapper:
             else:
                 self.ignore("bt_navigator", k)
 
+    def behavior_server(self, p: Mapping[str, Any], src: Path_) -> None:
+        """Its motion limits are ports of the recovery nodes here: a value that differs from the
+        port's default is not applied (the tree sets ports): say so, naming the nodes."""
+        from behaviors.registry import node_classes
+        by_port: dict[str, list[tuple[str, Any]]] = {}
+        for name, cls in node_classes().items():
+            if getattr(cls, "CATEGORY", "") != "Action":
+                continue
+            for port, info in cls.input_ports().items():
+                if info.has_default:
+                    by_port.setdefault(port, []).append((name, info.default_value))
+        same: list[str] = []
+        for k, v in p.items():
+            s = src + (k,)
+            users = [(n, d) for n, d in by_port.get(k, []) if n in _RECOVERY_NODES]
+            if not users:
+                self.ignore("behavior_server", k)
+                continue
+            differ = [n for n, d in users if d != v]
+            if differ:
+                self.note("warning", s, f"behavior_server: {k} = {v} is a port of "
+                          f"{', '.join(differ)} here, whose default differs: it is not "
+                          f"applied; set {k}=\"{v}\" on those nodes in the tree")
+            else:
+                same.append(f"{k} = {v}")
+        if same:
+            self.note("note", src, "behavior_server: the recovery nodes' ports have these values "
+                                   f"by default already: {', '.join(same)}")
+
     def velocity_smoother(self, p: Mapping[str, Any], src: Path_) -> None:
         for k, v in p.items():
             s = src + (k,)
@@ -388,6 +421,7 @@ def read_nav2_params(path: str | os.PathLike) -> Converted:
     m = _Mapper(file, lines)
     handlers = {"amcl": m.amcl, "planner_server": m.planner, "controller_server": m.controller,
                 "bt_navigator": m.bt_navigator, "velocity_smoother": m.velocity_smoother,
+                "behavior_server": m.behavior_server,
                 "collision_monitor": m.collision_monitor}
     whole: list[str] = []
     for name, src, params in nodes:

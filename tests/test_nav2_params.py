@@ -105,3 +105,23 @@ def test_nav2_smac_footprint_string_and_unknown_layer(tmp_path):
     ros1.write_text("DWAPlannerROS: {max_vel_x: 0.3}\n")
     with pytest.raises(ParamsError, match="no 'ros__parameters' found"):
         read_nav2_params(ros1)
+
+
+def test_nav2_behavior_server_limits_against_recovery_ports(tmp_path):
+    p = tmp_path / "p.yaml"
+    p.write_text(textwrap.dedent("""\
+        behavior_server:
+          ros__parameters:
+            cycle_frequency: 10.0
+            simulate_ahead_time: 2.0
+            max_rotational_vel: 0.5
+        """))
+    c = load_config_sources(ConfigSources(nav2_params=[str(p)]))
+    warnings = [str(n) for n in c.report if n.level == "warning"]
+    assert len(warnings) == 1
+    assert warnings[0].startswith(f"{p}:5: warning: behavior_server: max_rotational_vel = 0.5 "
+                                  "is a port of ")
+    assert "Spin" in warnings[0] and 'set max_rotational_vel="0.5" on those nodes' in warnings[0]
+    assert any("simulate_ahead_time = 2.0" in n.text for n in c.report if n.level == "note")
+    assert any("behavior_server: cycle_frequency" in n.text for n in c.report
+               if n.level == "ignored")

@@ -187,3 +187,30 @@ def test_misspelling_ros_ignores_is_a_warning(tmp_path):
     assert c.move_base.recovery_behavior_enabled is True   # not read, as by move_base
     assert any(n.level == "warning" and "'recovery_behaviour_enabled' is not read" in n.text
                for n in c.report)
+
+
+def test_misplaced_ros_parameter_in_a_robot_yaml_says_where_it_belongs():
+    with pytest.raises(ConfigError) as e:
+        config_from_mapping({"obstacle_range": 2.5, "controller_frequency": 5.0,
+                             "move_bas": {}}, "r.yaml")
+    lines = str(e.value).splitlines()
+    assert lines[0] == ("r.yaml: unknown namespace 'obstacle_range': 'obstacle_range' is a "
+                        "costmap parameter; put it under global_costmap: / local_costmap: (or "
+                        "load the ROS file with --params FILE:local_costmap)")
+    assert lines[1].startswith("r.yaml: unknown namespace 'controller_frequency': "
+                               "'controller_frequency' is a move_base parameter")
+    assert lines[2] == "r.yaml: unknown namespace 'move_bas' (did you mean 'move_base'?)"
+
+
+def test_scenario_config_over_ros_files(shared_data, monkeypatch):
+    from executive.scenario import load_scenario, scenario_config
+    root = shared_data / "ros_params" / "turtlebot3_navigation"
+    if not root.is_dir():
+        pytest.skip(f"TurtleBot3 files not found under {root}")
+    monkeypatch.delenv("TURTLEBOT3_MODEL", raising=False)
+    scenario = load_scenario(Path(__file__).parent.parent / "executive" / "data" / "demo.yaml")
+    sources = ConfigSources(launch=str(root / "launch" / "move_base.launch"),
+                            args={"model": "waffle"})
+    c = scenario_config(scenario, sources)
+    assert c.parameters["DWAPlannerROS"].max_vel_x == 0.26
+    assert c.source.endswith("model:=waffle)")
