@@ -98,6 +98,18 @@ SAFETY_PARAMS: tuple[Param, ...] = (
           "of wall time stops the robot (wall clock only)", min=1.0, max=100.0),
 )
 
+# Nav2's behavior_server parameters: the recovery nodes' ports of those names take these values
+# unless the tree sets them (see RobotConfig.port_defaults); defaults are Nav2's.
+BEHAVIOR_SERVER_PARAMS: tuple[Param, ...] = (
+    Param("simulate_ahead_time", 2.0, float, "collision look-ahead of Spin, BackUp, "
+          "DriveOnHeading (s)", min=0.0),
+    Param("max_rotational_vel", 1.0, float, "Spin's top yaw rate (rad/s)", min=0.0),
+    Param("min_rotational_vel", 0.4, float, "Spin's lowest yaw rate (rad/s)", min=0.0),
+    Param("rotational_acc_lim", 3.2, float, "Spin's yaw acceleration (rad/s^2)", min=0.0),
+)
+# the behavior_server's plugins, by their node names
+BEHAVIOR_SERVER_NODES = ("Spin", "BackUp", "DriveOnHeading", "Wait", "AssistedTeleop")
+
 # ROS namespace -> (module, attribute) of the component's Param table. Resolved lazily so that the
 # executive does not import every component just to read a file, and so a component that is not
 # installed only matters when its namespace is used.
@@ -126,6 +138,7 @@ OWN_NAMESPACES: dict[str, tuple[Param, ...]] = {
     "robot": ROBOT_PARAMS,
     "move_base": MOVE_BASE_PARAMS,
     "safety": SAFETY_PARAMS,
+    "behavior_server": BEHAVIOR_SERVER_PARAMS,
 }
 
 # Keys a ROS file carries in a namespace that are structure rather than parameters here.
@@ -205,6 +218,22 @@ class RobotConfig:
         return {"base_local_planner/TrajectoryPlannerROS": "TrajectoryPlannerROS",
                 "dwa_local_planner/DWAPlannerROS": "DWAPlannerROS"}[
             self.move_base.base_local_planner]
+
+    def port_defaults(self) -> dict[str, dict[str, Any]]:
+        """Node type -> {port: value} for ports the tree leaves unset: the ``behavior_server``
+        values given (Nav2's server parameters are these nodes' ports here)."""
+        given = self.namespaces.get("behavior_server") or {}
+        if not given:
+            return {}
+        from behaviors.registry import node_classes
+        out: dict[str, dict[str, Any]] = {}
+        for name, cls in node_classes().items():
+            if name in BEHAVIOR_SERVER_NODES:
+                ports = cls.input_ports()
+                values = {k: float(v) for k, v in given.items() if k in ports}
+                if values:
+                    out[name] = values
+        return out
 
     def all_parameters(self) -> dict[str, Parameters]:
         """Every live Parameters object by namespace (what SetParameters may change)."""

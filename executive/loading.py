@@ -19,20 +19,24 @@ class TreeLoadError(ValueError):
 
 
 def load_tree_file(path: str | os.PathLike, namespace: str = "/mission",
-                   nav2_distro: str | None = None) -> py_trees.trees.BehaviourTree:
-    """Load a YAML or BT.CPP XML tree with its blackboard keys under ``namespace``."""
-    return load_loaded(path, namespace, nav2_distro).tree
+                   nav2_distro: str | None = None, port_defaults: dict | None = None
+                   ) -> py_trees.trees.BehaviourTree:
+    """Load a YAML or BT.CPP XML tree with its blackboard keys under ``namespace``;
+    ``port_defaults`` (node type -> {port: value}) fills ports the tree leaves unset."""
+    return load_loaded(path, namespace, nav2_distro, port_defaults).tree
 
 
 def load_loaded(path: str | os.PathLike, namespace: str = "/mission",
-                nav2_distro: str | None = None) -> tree_loader.LoadedTree:
+                nav2_distro: str | None = None, port_defaults: dict | None = None
+                ) -> tree_loader.LoadedTree:
     """Like ``load_tree_file`` but the whole ``LoadedTree`` (distribution, ignored attributes);
     a TreeLoadError lists every problem of the file, one per line."""
     path = str(path)
     if not os.path.exists(path):
         raise TreeLoadError(f"{path}: no such tree file")
     try:
-        return tree_loader.load_any(path, namespace=namespace, nav2_distro=nav2_distro)
+        return tree_loader.load_any(path, namespace=namespace, nav2_distro=nav2_distro,
+                                    port_defaults=port_defaults)
     except TreeError as e:
         raise TreeLoadError(str(e)) from None
     except (OSError, UnicodeDecodeError) as e:

@@ -66,7 +66,7 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
     clock: Clock = WallClock() if realtime or mode == "devices" else SimClock()
     rng = np.random.default_rng(seed)
     namespace = f"/mission_{next(_mission_ids)}"   # the executive's counter: names stay unique
-    tree = load_tree_file(tree_path, namespace=namespace)
+    tree = load_tree_file(tree_path, namespace=namespace, port_defaults=config.port_defaults())
     stack = Stack.from_config(config, grid, clock)
     io, sim = open_robot_io(mode, config, grid, start, world, clock, rng, namespace)
     mount = laser_mount(io)

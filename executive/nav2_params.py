@@ -96,10 +96,6 @@ _NAV2_BT_LIBS = {"nav2_compute_path_to_pose_action_bt_node": "ComputePathToPose"
                      "ReinitializeGlobalLocalization"}
 
 
-# The behavior_server's plugins, by their navbt node names.
-_RECOVERY_NODES = ("Spin", "BackUp", "DriveOnHeading", "Wait", "AssistedTeleop")
-
-
 class _Mapper:
     def __init__(self, file: str, lines: Mapping[Path_, int]) -> None:
         self.file = file
@@ -349,33 +345,15 @@ class _Mapper:
                 self.ignore("bt_navigator", k)
 
     def behavior_server(self, p: Mapping[str, Any], src: Path_) -> None:
-        """Its motion limits are ports of the recovery nodes here: a value that differs from the
-        port's default is not applied (the tree sets ports): say so, naming the nodes."""
-        from behaviors.registry import node_classes
-        by_port: dict[str, list[tuple[str, Any]]] = {}
-        for name, cls in node_classes().items():
-            if getattr(cls, "CATEGORY", "") != "Action":
-                continue
-            for port, info in cls.input_ports().items():
-                if info.has_default:
-                    by_port.setdefault(port, []).append((name, info.default_value))
-        same: list[str] = []
+        """Its motion limits are the recovery nodes' ports of the same names here
+        (``behavior_server`` namespace: used where the tree leaves those ports unset)."""
+        from executive.config import BEHAVIOR_SERVER_PARAMS
+        names = {q.name for q in BEHAVIOR_SERVER_PARAMS}
         for k, v in p.items():
-            s = src + (k,)
-            users = [(n, d) for n, d in by_port.get(k, []) if n in _RECOVERY_NODES]
-            if not users:
-                self.ignore("behavior_server", k)
-                continue
-            differ = [n for n, d in users if d != v]
-            if differ:
-                self.note("warning", s, f"behavior_server: {k} = {v} is a port of "
-                          f"{', '.join(differ)} here, whose default differs: it is not "
-                          f"applied; set {k}=\"{v}\" on those nodes in the tree")
+            if k in names:
+                self.put(("behavior_server", k), v, src + (k,))
             else:
-                same.append(f"{k} = {v}")
-        if same:
-            self.note("note", src, "behavior_server: the recovery nodes' ports have these values "
-                                   f"by default already: {', '.join(same)}")
+                self.ignore("behavior_server", k)
 
     def velocity_smoother(self, p: Mapping[str, Any], src: Path_) -> None:
         for k, v in p.items():

@@ -160,6 +160,9 @@ class Builder:
     ignored_ports: frozenset[str] = frozenset()
     classes: dict[str, type[NavNode]] = field(default_factory=node_classes)
     distro: str | None = None  # the Nav2 distribution whose semantics apply; None: navbt's
+    # node type -> {port: value} for ports a node leaves unset (the robot config's
+    # behavior_server values), instead of the ports' declared defaults
+    port_defaults: dict[str, dict[str, Any]] = field(default_factory=dict)
     errors: list[TreeError] = field(default_factory=list)
     ignored: list[str] = field(default_factory=list)
 
@@ -239,6 +242,9 @@ class Builder:
         children = self._children(spec, cls, scope, stack)
         self._depth -= 1
         refs, literals = self._ports(spec, cls, scope)
+        for port, value in self.port_defaults.get(spec.type, {}).items():
+            if port not in refs and port not in literals:
+                literals[port] = value
         if len(self.errors) > before:
             return _Invalid(name=spec.label)
         kwargs: dict[str, Any] = {}

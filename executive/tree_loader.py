@@ -166,7 +166,7 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
 
 
 def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
-           nav2_distro: str | None = None) -> LoadedTree:
+           nav2_distro: str | None = None, port_defaults: dict | None = None) -> LoadedTree:
     if not re.fullmatch(r"(/[A-Za-z0-9_]+)+/?", namespace):
         raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
                         f"(letters, digits, '_'; a '.' would nest keys), got {namespace!r}")
@@ -177,7 +177,7 @@ def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
     except ValueError as e:
         raise TreeError(f"{doc.source}:1: {e}") from None
     builder = Builder(doc, namespace.rstrip("/"), from_text=xml, ignored_ports=NAV2_IGNORED,
-                      distro=distro)
+                      distro=distro, port_defaults=dict(port_defaults or {}))
     tid = builder.main_tree()
     root = builder.build(tid)
     return LoadedTree(root=root, tree=LeanBehaviourTree(root),
@@ -186,28 +186,32 @@ def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
 
 
 def load_tree(path: str | os.PathLike, namespace: str = "/mission",
-              main_tree: str | None = None, nav2_distro: str | None = None) -> LoadedTree:
+              main_tree: str | None = None, nav2_distro: str | None = None,
+              port_defaults: dict | None = None) -> LoadedTree:
     """Load a YAML tree file (with its includes), validate it and build it under ``namespace``.
 
     ``nav2_distro`` (humble, jazzy, kilted, main) overrides the distribution whose semantics
     apply (the file's ``nav2_distro`` key, else navbt's own semantics)."""
-    return _build(read_yaml(path), namespace, main_tree, xml=False, nav2_distro=nav2_distro)
+    return _build(read_yaml(path), namespace, main_tree, xml=False, nav2_distro=nav2_distro,
+                  port_defaults=port_defaults)
 
 
 def load_xml(path: str | os.PathLike, namespace: str = "/mission",
-             main_tree: str | None = None, nav2_distro: str | None = None) -> LoadedTree:
+             main_tree: str | None = None, nav2_distro: str | None = None,
+             port_defaults: dict | None = None) -> LoadedTree:
     """Load a BehaviorTree.CPP XML file (Nav2 dialect) into the same node classes.
 
     Semantics follow ``nav2_distro``, else the root's ``nav2_distro`` attribute, else jazzy
     (humble for a BT.CPP 3 file, one without ``BTCPP_format``)."""
-    return _build(read_xml(path), namespace, main_tree, xml=True, nav2_distro=nav2_distro)
+    return _build(read_xml(path), namespace, main_tree, xml=True, nav2_distro=nav2_distro,
+                  port_defaults=port_defaults)
 
 
 def load_any(path: str | os.PathLike, namespace: str = "/mission",
-             nav2_distro: str | None = None) -> LoadedTree:
+             nav2_distro: str | None = None, port_defaults: dict | None = None) -> LoadedTree:
     """``load_xml`` for ``.xml`` files, ``load_tree`` otherwise."""
     loader = load_xml if str(path).lower().endswith(".xml") else load_tree
-    return loader(path, namespace, nav2_distro=nav2_distro)
+    return loader(path, namespace, nav2_distro=nav2_distro, port_defaults=port_defaults)
 
 
 def _doc_and_main(tree: LoadedTree | TreeDoc, main_tree: str | None

@@ -395,7 +395,7 @@ def test_setup_failure_is_a_wiring_error(tmp_path):
     tree_file = tmp_path / "t.yaml"
     tree_file.write_text("main_tree: T\ntrees:\n  T:\n    Wait: {wait_duration: 1.0}\n")
     original = mission.load_tree_file
-    mission.load_tree_file = lambda path, namespace: py_trees.trees.BehaviourTree(Broken("b"))
+    mission.load_tree_file = lambda path, namespace, **_: py_trees.trees.BehaviourTree(Broken("b"))
     try:
         grid = ascii_map("########\n#......#\n#......#\n########\n", resolution=0.5)
         with pytest.raises(WiringError, match=r"t.yaml: tree setup failed: needs a 'gripper'"):

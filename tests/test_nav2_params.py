@@ -107,21 +107,39 @@ def test_nav2_smac_footprint_string_and_unknown_layer(tmp_path):
         read_nav2_params(ros1)
 
 
-def test_nav2_behavior_server_limits_against_recovery_ports(tmp_path):
+def test_nav2_behavior_server_limits_become_recovery_ports(tmp_path):
+    from executive.loading import load_tree_file
     p = tmp_path / "p.yaml"
     p.write_text(textwrap.dedent("""\
         behavior_server:
           ros__parameters:
             cycle_frequency: 10.0
-            simulate_ahead_time: 2.0
+            simulate_ahead_time: 1.5
             max_rotational_vel: 0.5
         """))
     c = load_config_sources(ConfigSources(nav2_params=[str(p)]))
-    warnings = [str(n) for n in c.report if n.level == "warning"]
-    assert len(warnings) == 1
-    assert warnings[0].startswith(f"{p}:5: warning: behavior_server: max_rotational_vel = 0.5 "
-                                  "is a port of ")
-    assert "Spin" in warnings[0] and 'set max_rotational_vel="0.5" on those nodes' in warnings[0]
-    assert any("simulate_ahead_time = 2.0" in n.text for n in c.report if n.level == "note")
+    assert c.origins[("behavior_server", "max_rotational_vel")] == f"{p}:5"
+    defaults = c.port_defaults()
+    assert defaults["Spin"] == {"simulate_ahead_time": 1.5, "max_rotational_vel": 0.5}
+    assert defaults["BackUp"] == {"simulate_ahead_time": 1.5}
     assert any("behavior_server: cycle_frequency" in n.text for n in c.report
                if n.level == "ignored")
+    tree = tmp_path / "t.yaml"
+    tree.write_text(textwrap.dedent("""\
+        main_tree: T
+        trees:
+          T:
+            Sequence:
+              children:
+                - Spin: {name: own, spin_dist: 1.0}
+                - Spin: {name: set, spin_dist: 1.0, max_rotational_vel: 0.8}
+                - BackUp: {backup_dist: 0.1, backup_speed: 0.05}
+        """))
+    root = load_tree_file(tree, namespace="/bs_test", port_defaults=defaults).root
+    nodes = {n.name: n for n in root.iterate()}
+    assert nodes["own"].get_input("max_rotational_vel") == 0.5      # from behavior_server
+    assert nodes["own"].get_input("simulate_ahead_time") == 1.5
+    assert nodes["set"].get_input("max_rotational_vel") == 0.8      # the tree's own value wins
+    assert nodes["BackUp"].get_input("simulate_ahead_time") == 1.5
+    plain = load_tree_file(tree, namespace="/bs_test2").root
+    assert {n.name: n for n in plain.iterate()}["own"].get_input("max_rotational_vel") == 1.0
