@@ -71,7 +71,8 @@ _TREES = {"navigate_to_pose_w_replanning_and_recovery.xml": "nav2",
           "navigate_w_replanning_and_recovery.xml": "nav2"}
 
 _NAV2_BT_LIBS = {"nav2_compute_path_to_pose_action_bt_node": "ComputePathToPose",
-                 "nav2_follow_path_action_bt_node": "FollowPath", "nav2_spin_action_bt_node": "Spin",
+                 "nav2_follow_path_action_bt_node": "FollowPath",
+                 "nav2_spin_action_bt_node": "Spin",
                  "nav2_wait_action_bt_node": "Wait", "nav2_back_up_action_bt_node": "BackUp",
                  "nav2_clear_costmap_service_bt_node": "ClearEntireCostmap",
                  "nav2_goal_reached_condition_bt_node": "GoalReached",

@@ -399,8 +399,9 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
                                      "namespace (<rosparam ns=\"global_costmap\"> / "
                                      f"--params FILE:local_costmap)")
         elif isinstance(value, dict):
+            spaces = ("global_costmap", "local_costmap") + PLANNER_NAMESPACES
             out.note("error", where, f"unknown namespace '{key}' in move_base"
-                                     f"{suggest(key, ('global_costmap', 'local_costmap') + PLANNER_NAMESPACES)}")
+                                     f"{suggest(key, spaces)}")
         else:
             out.note("error", where, f"move_base: unknown parameter '{key}'"
                                      f"{suggest(key, move_base_names | set(lenient.known()))}")

@@ -1,4 +1,5 @@
-"""``mission config check [--config F] [--launch F --arg k=v] [--params F[:NS]]... [--nav2-params F]``.
+"""``mission config check [--config F] [--launch F --arg k=v] [--params F[:NS]]...
+[--nav2-params F]``.
 
 Prints the merged, resolved robot config with where each value came from (file:line), then every
 error, warning, note and ignored key of the load at once. Exit status 1 when there are errors.
