@@ -20,7 +20,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar, Iterable, Iterator
+from typing import Any, ClassVar, Generator, Iterable, Iterator
 
 import py_trees
 from py_trees.common import Status
@@ -31,7 +31,7 @@ from navcore.types import Pose2D
 __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInformation", "Port",
            "port_problem", "Status",
            "ComponentError", "make", "node_classes", "namespaced", "NoDataAvailable",
-           "tick_child", "tick_observed", "RUNNING", "SUCCESS", "FAILURE", "INVALID"]
+           "Ticking", "RUNNING", "SUCCESS", "FAILURE", "INVALID"]
 
 # Status members as module constants, compared by identity: ``Status.RUNNING`` is a slow
 # class-attribute look-up on an Enum and Enum ``==`` a Python-level call; ticks do many of both.
@@ -78,33 +78,9 @@ class ComponentError(RuntimeError):
     """A node's ``setup`` did not receive a component it needs; the message names both."""
 
 
-# Who sees each node as it finishes its tick (py_trees visitors, a caller of the ``tick``
-# generator); None almost always, so a navbt node pays one global look-up for it.
-_observer: Callable[[py_trees.behaviour.Behaviour], None] | None = None
-
-
-def tick_child(child: py_trees.behaviour.Behaviour) -> None:
-    """Tick ``child`` once: a navbt node by a plain call (no generator per node and level),
-    any other py_trees behaviour through its ``tick`` generator."""
-    tick_now = getattr(child, "tick_now", None)  # not isinstance: an ABC check costs more
-    if tick_now is not None:
-        tick_now()
-        return
-    for node in child.tick():
-        if _observer is not None:
-            _observer(node)
-
-
-def tick_observed(root: py_trees.behaviour.Behaviour,
-                  observer: Callable[[py_trees.behaviour.Behaviour], None]) -> None:
-    """Tick ``root`` once, calling ``observer`` on every node as it finishes its tick, in the
-    order (and as often) py_trees' generators would yield it."""
-    global _observer
-    previous, _observer = _observer, observer
-    try:
-        tick_child(root)
-    finally:
-        _observer = previous
+# What ``tick_children`` is: a generator of the nodes ticked (py_trees' tick protocol) that
+# returns the node's own status for this tick.
+Ticking = Generator[py_trees.behaviour.Behaviour, None, Status]
 
 
 def namespaced(namespace: str, key: str) -> str:
@@ -128,18 +104,6 @@ class NavNode(PortsMixin):
         super().__init__(name=name or type(self).__name__, **kwargs)
         self._literals: dict[str, Any] = {}
         self.namespace = "/"
-
-    # ---------------------------------------------------------------- ticking
-    def tick_now(self) -> None:
-        """Tick once (this node and whatever children it ticks); subclasses implement it."""
-        raise NotImplementedError(f"{type(self).__name__}: no tick_now")
-
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        """py_trees' generator API: tick once, then yield the nodes ticked, in order (their
-        statuses are read after the whole tick; ``tick_observed`` sees each as it finishes)."""
-        ticked: list[py_trees.behaviour.Behaviour] = []
-        tick_observed(self, ticked.append)
-        yield from ticked
 
     # ---------------------------------------------------------------- wiring
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
@@ -284,27 +248,23 @@ class Recovery:
     recovery_starts: int = 0
 
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        # a navbt node counts in tick_now (its tick goes through it)
-        if self.status is not RUNNING and not isinstance(self, NavNode):  # type: ignore[attr-defined]
+        # counted when the tick runs, not when the generator is made (py_trees' stop makes one)
+        if self.status is not RUNNING:  # type: ignore[attr-defined]
             self.recovery_starts += 1
         yield from super().tick()  # type: ignore[misc]
 
-    def tick_now(self) -> None:
-        if self.status is not RUNNING:  # type: ignore[attr-defined]
-            self.recovery_starts += 1
-        super().tick_now()  # type: ignore[misc]
-
 
 class Leaf(NavNode, py_trees.behaviour.Behaviour):
-    """Base of actions and conditions (no children).
+    """Base of actions and conditions (no children): implement ``initialise``/``update``/
+    ``terminate`` as for any py_trees behaviour.
 
-    ``tick_now`` and ``stop`` keep py_trees' semantics (initialise when not RUNNING, update, stop
-    on a final status) without its per-tick debug formatting, which dominated the tick cost.
-    An exception raised by ``initialise`` or ``update`` leaves the tick: a bug is not a
+    ``tick`` is py_trees' ``Behaviour.tick`` (initialise when not RUNNING, update, stop on a
+    final status, yield self) without its per-tick debug formatting, which dominated the tick
+    cost. An exception raised by ``initialise`` or ``update`` leaves the tick: a bug is not a
     navigation failure (the executive ends the mission with INTERNAL_ERROR).
     """
 
-    def tick_now(self) -> None:
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
         if self.status is not RUNNING:
             self.initialise()
         new_status = self.update()
@@ -312,19 +272,26 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
             self.logger.error(f"{self.name}: update() returned {new_status!r}, not a Status")
             new_status = INVALID
         if new_status is not RUNNING:
-            self.terminate(new_status)  # what stop() does (py_trees: stop is not overridden)
+            self.terminate(new_status)  # what stop() does, less a call
         self.status = new_status
-        if _observer is not None:
-            _observer(self)
+        yield self
 
-    def stop(self, new_status: Status) -> None:
+    def stop(self, new_status: Status = INVALID) -> None:
         self.terminate(new_status)
         self.status = new_status
 
 
 class Control(NavNode, py_trees.composites.Composite):
-    """Base of control nodes. Subclasses implement ``tick_now``, ticking children through
-    ``tick_child`` and ending with ``_finish``.
+    """Base of control nodes: subclasses implement ``tick_children``.
+
+    Tick semantics are py_trees' (docs/trees.md, "How a tick works"): ``tick`` is a generator
+    yielding every node ticked, each as it finishes, then this node. A tick that starts a new
+    run (this node not RUNNING) first stops every child that is not INVALID, as py_trees'
+    Sequence and Selector do, so the run starts them afresh; ``tick_children`` then ticks
+    children (``yield from child.tick()``) and returns this node's status. A final status
+    stops this node: children still RUNNING are stopped (INVALID), finished ones keep their
+    status for introspection until the next run (py_trees; BT.CPP resets them at once, which
+    gives the same behaviour on the next tick). ``stop(INVALID)`` (a halt) stops every child.
 
     ``MIN_CHILDREN``/``MAX_CHILDREN`` are checked by the loader (STYLE 2.5) and at construction.
     """
@@ -337,13 +304,21 @@ class Control(NavNode, py_trees.composites.Composite):
                  **kwargs: Any) -> None:
         super().__init__(name=name, children=list(children or []), **kwargs)
 
-    def _finish(self, status: Status) -> None:
-        """Set the final status of this tick, stopping self (and so children) when not RUNNING."""
-        if status is not RUNNING:
+    def tick_children(self) -> Ticking:
+        """Tick children for this tick (``yield from child.tick()``); return this node's status.
+        ``self.status`` is still the previous tick's (not RUNNING: a new run)."""
+        raise NotImplementedError(f"{type(self).__name__}: no tick_children")
+        yield  # (a generator)
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        if self.status is not RUNNING:
+            self.halt_children()
+        status = yield from self.tick_children()
+        if status is RUNNING:
+            self.status = RUNNING
+        else:
             self.stop(status)
-        self.status = status
-        if _observer is not None:
-            _observer(self)
+        yield self
 
     def halt_children(self, start: int = 0) -> None:
         """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
@@ -352,18 +327,23 @@ class Control(NavNode, py_trees.composites.Composite):
                 child.stop(INVALID)
 
     def stop(self, new_status: Status = INVALID) -> None:
-        # Unlike py_trees (which keeps finished children for introspection), BT.CPP halts every
-        # child when a control node finishes: a later run must start them afresh.
-        # py_trees' Composite.stop less its debug formatting (a large part of a tick's cost).
-        self.halt_children()
+        # py_trees' Composite.stop (less its debug formatting, a large part of a tick's cost)
+        # plus what py_trees' Parallel and Sequence do before finishing: no child left RUNNING.
         if new_status is INVALID:
             self.current_child = None
+            self.halt_children()
+        else:
+            for child in self.children:
+                if child.status is RUNNING:
+                    child.stop(INVALID)
         self.terminate(new_status)
         self.status = new_status
 
 
 class DecoratorNode(NavNode, py_trees.decorators.Decorator):
-    """Base of decorators that decide *whether* to tick their child (custom ``tick_now``)."""
+    """Base of decorators that decide *whether* and *how* to tick their child
+    (``tick_children``), with the tick semantics of ``Control``: a new run stops the child if
+    it is not INVALID; a final status stops a RUNNING child; a halt stops the child."""
 
     CATEGORY = "Decorator"
 
@@ -373,15 +353,24 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
             raise TypeError(f"{type(self).__name__} '{name}': a decorator needs a child")
         super().__init__(name=name, child=child, **kwargs)
 
-    def _finish(self, status: Status) -> None:
-        if status is not RUNNING:
+    def tick_children(self) -> Ticking:
+        """Tick the child or not (``yield from self.decorated.tick()``); return this node's
+        status."""
+        raise NotImplementedError(f"{type(self).__name__}: no tick_children")
+        yield  # (a generator)
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        if self.status is not RUNNING:
+            self.halt_child()
+        status = yield from self.tick_children()
+        if status is RUNNING:
+            self.status = RUNNING
+        else:
             self.stop(status)
-        self.status = status
-        if _observer is not None:
-            _observer(self)
+        yield self
 
     def update(self) -> Status:
-        """Unused: these decorators decide in ``tick_now`` (py_trees declares it abstract)."""
+        """Unused: these decorators decide in ``tick_children`` (py_trees declares it abstract)."""
         return self.decorated.status
 
     def halt_child(self) -> None:
@@ -389,8 +378,10 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
             self.decorated.stop(INVALID)
 
     def stop(self, new_status: Status = INVALID) -> None:
+        # py_trees' Decorator.stop: the child is stopped on a halt or when still RUNNING
         self.terminate(new_status)
-        self.halt_child()
+        if new_status is INVALID or self.decorated.status is RUNNING:
+            self.halt_child()
         self.status = new_status
 
 

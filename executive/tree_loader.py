@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,7 +21,7 @@ from typing import Any
 import py_trees
 from py_trees.common import Access, Status
 
-from behaviors.base import namespaced, node_classes, tick_child, tick_observed
+from behaviors.base import namespaced, node_classes
 from executive.tree_build import Builder
 from executive.tree_spec import TreeDoc, TreeError
 from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
@@ -114,13 +115,18 @@ class LoadedTree:
         return to_xml(self)
 
 
+def _drain(ticking: Any) -> None:
+    """Run a tick generator to its end without looking at what it yields."""
+    deque(ticking, maxlen=0)
+
+
 class LeanBehaviourTree(py_trees.trees.BehaviourTree):
     """py_trees' tree manager without its second whole-tree walk when no visitor needs it.
 
     ``BehaviourTree.tick`` iterates every node after the tick for "full" visitors even when
-    there are none; at 20 Hz that walk is a large part of the tick overhead. navbt nodes tick
-    by plain calls (behaviors.base.tick_child); visitors still see each node as it finishes its
-    tick (tick_observed), with the status it has then.
+    there are none; at 20 Hz that walk is a large part of the tick overhead. Without visitors
+    the root's tick generator is drained in C (``deque(maxlen=0)``); visitors see each node as
+    it finishes its tick, with the status it has then, as in py_trees.
     """
 
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
@@ -133,11 +139,9 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
             for visitor in visitors:
                 visitor.initialise()
             ticking = [v for v in visitors if not v.full]
-
-            def visit(node: py_trees.behaviour.Behaviour) -> None:
+            for node in self.root.tick():
                 for visitor in ticking:
                     node.visit(visitor)
-            tick_observed(self.root, visit)
             full = [v for v in visitors if v.full]
             if full:
                 for node in self.root.iterate():
@@ -146,7 +150,7 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
             for visitor in visitors:
                 visitor.finalise()
         else:
-            tick_child(self.root)
+            _drain(self.root.tick())
         for handler in self.post_tick_handlers:
             handler(self)
         if post_tick_handler is not None:

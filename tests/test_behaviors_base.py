@@ -1,4 +1,4 @@
-"""behaviors.base: plain-call ticking seen through py_trees' generator API, lazy feedback."""
+"""behaviors.base: py_trees' generator ticking, lazy feedback."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import itertools
 from py_trees.behaviours import StatusQueue
 from py_trees.common import Status
 
-from behaviors.base import make, tick_observed
+from behaviors.base import make
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
 _ns = itertools.count()
@@ -24,29 +24,16 @@ def recovery_tree():
     return make("RecoveryNode", namespace=ns, children=[main, rec], number_of_retries=3)
 
 
-def test_tick_observed_sees_each_node_as_it_finishes_with_its_status_then():
+def test_tick_yields_each_node_as_it_finishes_with_its_status_then():
     # RecoveryNode re-ticks its main child in the same tick: nodes come more than once, in
     # order, each with the status it had when it finished its tick (before any later halt).
     root = recovery_tree()
-    seen = []
-    for _ in range(3):
-        tick = []
-        tick_observed(root, lambda n: tick.append((n.name, n.status)))
-        seen.append(tick)
+    seen = [[(n.name, n.status) for n in root.tick()] for _ in range(3)]
     assert seen[0] == [("a", S), ("b", R), ("Sequence", R), ("RecoveryNode", R)]
     assert seen[1] == [("b", F), ("Sequence", F), ("c", F), ("Inverter", S),
                        ("a", F), ("Sequence", F), ("c", F), ("Inverter", S),
                        ("a", S), ("b", S), ("Sequence", S), ("RecoveryNode", S)]
     assert seen[2] == [("a", S), ("b", S), ("Sequence", S), ("RecoveryNode", S)]
-
-
-def test_generator_yields_the_same_nodes_in_the_same_order():
-    a, b = recovery_tree(), recovery_tree()
-    for _ in range(3):
-        observed = []
-        tick_observed(a, observed.append)
-        assert [n.name for n in observed] == [n.name for n in b.tick()]
-        assert a.status == b.status
 
 
 def test_feedback_is_formatted_when_read():

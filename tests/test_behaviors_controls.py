@@ -52,8 +52,11 @@ def test_sequence_resumes_at_running_child_and_restarts_after_failure():
     seq = build("Sequence", [a, b])
     assert ticks(seq, 1) == [R] and (a.ticked, b.ticked) == (1, 1)
     assert ticks(seq, 1) == [S] and (a.ticked, b.ticked) == (1, 2)  # a not re-ticked
-    assert a.status == b.status == I                                  # children halted at the end
+    # py_trees: finished children keep their status until the next run starts (BT.CPP resets
+    # them at once; either way the next run ticks them afresh)
+    assert a.status == b.status == S
     assert ticks(seq, 1) == [F] and (a.ticked, b.ticked) == (2, 3)
+    assert a.status == S and b.status == F and a.halted == b.halted == 0
 
 
 def test_sequence_with_memory_retries_the_failed_child_not_the_first():
@@ -122,7 +125,7 @@ def test_recovery_node_gives_up_after_its_retries():
     node = build("RecoveryNode", [main, fix], number_of_retries=1)
     node.tick_once()
     assert node.status == F
-    assert main.status == fix.status == I        # both halted, counter reset
+    assert main.status == F and fix.status == I  # main keeps its final status, fix was halted
     assert (main.ticked, fix.ticked) == (2, 1)
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, tick_child
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, Ticking
 
 
 class IfThenElse(Control):
@@ -21,23 +21,21 @@ class IfThenElse(Control):
         super().__init__(*args, **kwargs)
         self._branch = 0
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._branch = 0
         if self._branch == 0:
             cond = self.children[0]
-            tick_child(cond)
+            yield from cond.tick()
             if cond.status is RUNNING:
-                self._finish(RUNNING)
-                return
+                return RUNNING
             if cond.status is SUCCESS:
                 self._branch = 1
             elif len(self.children) == 3:
                 self._branch = 2
             else:
-                self._finish(FAILURE)
-                return
+                return FAILURE
         branch = self.children[self._branch]
         self.current_child = branch
-        tick_child(branch)
-        self._finish(branch.status)
+        yield from branch.tick()
+        return branch.status

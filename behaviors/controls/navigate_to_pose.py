@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import Control, Port, PortInformation, namespaced, tick_child
+from behaviors.base import Control, Port, PortInformation, namespaced, Ticking
 from navcore.types import Pose2D
 from behaviors.actions.compute_path_to_pose import ComputePathToPose
 from behaviors.actions.follow_path import FollowPath
@@ -52,6 +52,6 @@ class NavigateToPose(Control):
                           {"controller_id": self.get_input("controller_id")})
         self._pipe.wire(namespace)
 
-    def tick_now(self) -> None:
-        tick_child(self._pipe)
-        self._finish(self._pipe.status)
+    def tick_children(self) -> Ticking:
+        yield from self._pipe.tick()
+        return self._pipe.status

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from behaviors.base import RUNNING, Control, Status, tick_child
+from behaviors.base import RUNNING, Control, Status, Ticking
 
 
 class InOrder(Control):
@@ -24,24 +24,22 @@ class InOrder(Control):
         super().__init__(*args, **kwargs)
         self._index = 0
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if not self.MEMORY and self.status is not RUNNING:
             self._index = 0
         while self._index < len(self.children):
             child = self.children[self._index]
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is RUNNING:
-                self._finish(RUNNING)
-                return
+                return RUNNING
             if child.status is self.STOP_ON:
                 if not self.MEMORY:
                     self._index = 0
-                self._finish(self.STOP_ON)
-                return
+                return self.STOP_ON
             self._index += 1
         self._index = 0
-        self._finish(self.ALL_DONE)
+        return self.ALL_DONE
 
 
 class Reactive(Control):
@@ -55,15 +53,13 @@ class Reactive(Control):
     STOP_ON: ClassVar[Status]
     ALL_DONE: ClassVar[Status]
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         for i, child in enumerate(self.children):
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is RUNNING:
                 self.halt_children(i + 1)
-                self._finish(RUNNING)
-                return
+                return RUNNING
             if child.status is self.STOP_ON:
-                self._finish(self.STOP_ON)
-                return
-        self._finish(self.ALL_DONE)
+                return self.STOP_ON
+        return self.ALL_DONE

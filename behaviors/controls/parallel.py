@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import (FAILURE, RUNNING, SUCCESS, Control, Port, PortInformation,
-                            Status, tick_child)
+                            Status, Ticking)
 
 
 class Parallel(Control):
@@ -23,21 +23,21 @@ class Parallel(Control):
         n = self.get_input(port)
         return len(self.children) if n < 0 else min(n, len(self.children))
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._done: dict[int, Status] = {}
         need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
         for i, child in enumerate(self.children):
             if i in self._done:
                 continue
-            tick_child(child)
+            yield from child.tick()
             if child.status is SUCCESS or child.status is FAILURE:
                 self._done[i] = child.status
         successes = sum(1 for s in self._done.values() if s is SUCCESS)
         failures = len(self._done) - successes
         if successes >= need_success:
-            self._finish(SUCCESS)
+            return SUCCESS
         elif failures >= need_failure or len(self._done) == len(self.children):
-            self._finish(FAILURE)
+            return FAILURE
         else:
-            self._finish(RUNNING)
+            return RUNNING

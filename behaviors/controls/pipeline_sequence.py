@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, tick_child
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, Ticking
 
 
 class PipelineSequence(Control):
@@ -19,19 +19,17 @@ class PipelineSequence(Control):
         super().__init__(*args, **kwargs)
         self._last = 0
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._last = 0
         for i, child in enumerate(self.children):
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is FAILURE:
                 self._last = 0
-                self._finish(FAILURE)
-                return
+                return FAILURE
             if child.status is RUNNING and i >= self._last:
                 self._last = i
-                self._finish(RUNNING)
-                return
+                return RUNNING
         self._last = 0
-        self._finish(SUCCESS)
+        return SUCCESS

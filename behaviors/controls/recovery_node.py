@@ -7,7 +7,7 @@ from typing import Any
 import py_trees
 
 from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, Port,
-                            PortInformation, Status, tick_child)
+                            PortInformation, Status, Ticking)
 
 
 Behaviour = py_trees.behaviour.Behaviour
@@ -66,7 +66,7 @@ class RecoveryNode(Control):
                     new_run()
             self.say("main child recovered: recoveries start again")
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._retries, self._index = 0, 0
         limit = self.get_input("number_of_retries")
@@ -74,30 +74,25 @@ class RecoveryNode(Control):
         while True:
             if self._index == 0:
                 self.current_child = main
-                tick_child(main)
+                yield from main.tick()
                 if main.status is RUNNING:
                     self._maybe_reset(recovery)
-                    self._finish(RUNNING)
-                    return
+                    return RUNNING
                 if main.status is SUCCESS:
-                    self._finish(SUCCESS)
-                    return
+                    return SUCCESS
                 if self._retries >= limit:
                     self.say(f"main child failed after {self._retries} recoveries")
-                    self._finish(FAILURE)
-                    return
+                    return FAILURE
                 main.stop(INVALID)
                 self._index = 1
             else:
                 self.current_child = recovery
-                tick_child(recovery)
+                yield from recovery.tick()
                 if recovery.status is RUNNING:
-                    self._finish(RUNNING)
-                    return
+                    return RUNNING
                 if recovery.status is FAILURE:
                     self.say(f"recovery {self._retries + 1} failed")
-                    self._finish(FAILURE)
-                    return
+                    return FAILURE
                 recovery.stop(INVALID)
                 self._retries += 1
                 self._since = self._clock.now() if self._clock is not None else 0.0

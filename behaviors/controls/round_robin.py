@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, PortInformation, Status,
-                            tick_child)
+                            Ticking)
 
 
 class RoundRobin(Control):
@@ -30,21 +30,19 @@ class RoundRobin(Control):
         self._index = 0
         self._failed = 0
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         n = len(self.children)
         wrap = self.get_input("wrap_around")
         if self._index >= n:  # the last child succeeded last time and there is no wrap
             self._index, self._failed = 0, 0
             self.say("every child attempted")
-            self._finish(FAILURE)
-            return
+            return FAILURE
         while self._failed < n:
             child = self.children[self._index]
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is RUNNING:
-                self._finish(RUNNING)
-                return
+                return RUNNING
             self._index += 1
             exhausted = self._index == n
             if exhausted and wrap:
@@ -54,15 +52,14 @@ class RoundRobin(Control):
                 break  # Nav2 main: the end of the list without wrap is FAILURE, even on success
             if child.status is SUCCESS:
                 self._failed = 0
-                self._finish(SUCCESS)
-                return
+                return SUCCESS
             self._failed += 1
             if exhausted and not wrap:
                 break
         self._failed = 0
         self._index = self._index % n if wrap else 0
         self.say("every child attempted")
-        self._finish(FAILURE)
+        return FAILURE
 
     def terminate(self, new_status: Status) -> None:
         # Interrupted while running (goal change, parent halted): forget the position.

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import (INVALID, RUNNING, SUCCESS, DecoratorNode, Port,
-                            PortInformation, tick_child)
+                            PortInformation, Ticking)
 
 
 class UsesRobot(DecoratorNode):
@@ -27,15 +27,15 @@ class DistanceController(UsesRobot):
     INPUT_PORTS = {"distance": Port(float, False, "travel between ticks, m", 1.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         pose = self.robot.pose()
         if self.status is INVALID:
             self._last_status = INVALID
             self._anchor = pose
         far = pose.distance_to(self._anchor) >= self.get_input("distance")
         if self._last_status is INVALID or self.decorated.status is RUNNING or far:
-            tick_child(self.decorated)
+            yield from self.decorated.tick()
             self._last_status = self.decorated.status
             if self._last_status is SUCCESS:
                 self._anchor = pose
-        self._finish(self._last_status)
+        return self._last_status

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import INVALID, RUNNING, DecoratorNode, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, DecoratorNode, PortInformation, Ticking
 from navcore.types import Pose2D
 
 
@@ -18,7 +18,7 @@ class GoalUpdatedController(DecoratorNode):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     DEFAULT_KEYS = {"goal": "goal"}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         goal = self.read("goal")
         if self.status is INVALID:
             self._last_status, self._goal = INVALID, goal
@@ -27,6 +27,6 @@ class GoalUpdatedController(DecoratorNode):
         if self._last_status is INVALID or self.decorated.status is RUNNING or changed:
             if changed and self.decorated.status is RUNNING:
                 self.halt_child()  # restart the child for the new goal
-            tick_child(self.decorated)
+            yield from self.decorated.tick()
             self._last_status = self.decorated.status
-        self._finish(self._last_status)
+        return self._last_status

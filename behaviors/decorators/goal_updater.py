@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import DecoratorNode, PortInformation, tick_child
+from behaviors.base import DecoratorNode, PortInformation, Ticking
 from navcore.types import Pose2D
 
 
@@ -20,10 +20,10 @@ class GoalUpdater(DecoratorNode):
     OUTPUT_PORTS = {"output_goal": PortInformation(Pose2D, True, "goal the subtree should use")}
     DEFAULT_KEYS = {"input_goal": "goal", "goal_update": "goal_update", "output_goal": "goal"}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         update = self.read("goal_update")
         goal = update if update is not None else self.read("input_goal")
         if goal is not None:
             self.write("output_goal", goal)
-        tick_child(self.decorated)
-        self._finish(self.decorated.status)
+        yield from self.decorated.tick()
+        return self.decorated.status

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, DecoratorNode, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, SUCCESS, DecoratorNode, PortInformation, Ticking
 
 
 class KeepRunningUntilFailure(DecoratorNode):
@@ -11,10 +11,10 @@ class KeepRunningUntilFailure(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
-        tick_child(self.decorated)
+    def tick_children(self) -> Ticking:
+        yield from self.decorated.tick()
         status = self.decorated.status
         if status is SUCCESS:
             self.decorated.stop(INVALID)
             status = RUNNING
-        self._finish(status)
+        return status

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, Ticking
 from behaviors.decorators.timeout import Timed
 
 
@@ -21,7 +21,7 @@ class RateController(Timed):
     INPUT_PORTS = {"hz": Port(float, False, "rate, Hz; 0 = once per run", 10.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         now = self.clock.now()
         hz = self.get_input("hz")
         if self.status is INVALID:
@@ -29,12 +29,11 @@ class RateController(Timed):
             self._last_status = INVALID
         due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
         if (self._last_status is INVALID or self.decorated.status is RUNNING or due):
-            tick_child(self.decorated)
+            yield from self.decorated.tick()
             self._last_status = self.decorated.status
             if self._last_status is SUCCESS:
                 self._last_ok = now
-            self._finish(self._last_status)
-            return
+            return self._last_status
         self.say("throttled: {:.2f} s to the next tick", self._last_ok + 1.0 / hz - now
                  if hz > 0.0 else math.inf)
-        self._finish(RUNNING)
+        return RUNNING

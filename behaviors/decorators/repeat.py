@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, DecoratorNode, Port,
-                            PortInformation, Status, tick_child)
+                            PortInformation, Status, Ticking)
 
 
 class Rerun(DecoratorNode):
@@ -18,10 +18,10 @@ class Rerun(DecoratorNode):
     LIMIT_PORT: ClassVar[str]
     FEEDBACK: ClassVar[str]  # said at each counted run: {n} runs so far, {limit}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._count = 0
-        tick_child(self.decorated)
+        yield from self.decorated.tick()
         status = self.decorated.status
         if status is self.RERUN_ON:
             self._count += 1
@@ -30,7 +30,7 @@ class Rerun(DecoratorNode):
             if limit < 0 or self._count < limit:
                 self.decorated.stop(INVALID)
                 status = RUNNING
-        self._finish(status)
+        return status
 
 
 class RetryUntilSuccessful(Rerun):

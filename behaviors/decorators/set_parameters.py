@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, tick_child
+from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, Ticking
 from navcore.params import ParameterError
 from navcore.safe_read import parse_yaml
 
@@ -57,7 +57,7 @@ class SetParameters(DecoratorNode):
         self.say(f"{ns}: set {self.get_input('values')}")
         return ""
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is not RUNNING:
             self._put_back()
             problem = self._apply()
@@ -65,10 +65,9 @@ class SetParameters(DecoratorNode):
                 self.write("error_msg", problem)
                 self.say(problem)
                 if self.get_input("required"):
-                    self._finish(FAILURE)
-                    return
-        tick_child(self.decorated)
-        self._finish(self.decorated.status)
+                    return FAILURE
+        yield from self.decorated.tick()
+        return self.decorated.status
 
     def _put_back(self) -> None:
         if self._restore is not None:

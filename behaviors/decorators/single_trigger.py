@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from behaviors.base import FAILURE, INVALID, RUNNING, DecoratorNode, PortInformation, tick_child
+from behaviors.base import FAILURE, INVALID, RUNNING, DecoratorNode, PortInformation, Ticking
 
 
 class SingleTrigger(DecoratorNode):
@@ -14,13 +14,12 @@ class SingleTrigger(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         if self.status is INVALID:
             self._fired = False
         if self._fired and self.decorated.status is not RUNNING:
-            self._finish(FAILURE)
-            return
-        tick_child(self.decorated)
+            return FAILURE
+        yield from self.decorated.tick()
         if self.decorated.status is not RUNNING:
             self._fired = True
-        self._finish(self.decorated.status)
+        return self.decorated.status

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, tick_child
+from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, Ticking
 from behaviors.decorators.distance_controller import UsesRobot
 
 
@@ -29,7 +29,7 @@ class SpeedController(UsesRobot):
         f = 0.0 if hi <= lo else min(1.0, max(0.0, (speed - lo) / (hi - lo)))
         return r0 + (r1 - r0) * f
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         now = self.clock.now()
         v = self.robot.velocity()
         rate = self.rate(math.hypot(v.vx, v.vy))
@@ -37,8 +37,8 @@ class SpeedController(UsesRobot):
             self._last_status, self._last_ok = INVALID, -math.inf
         due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
         if self._last_status is INVALID or self.decorated.status is RUNNING or due:
-            tick_child(self.decorated)
+            yield from self.decorated.tick()
             self._last_status = self.decorated.status
             if self._last_status is SUCCESS:
                 self._last_ok = now
-        self._finish(self._last_status)
+        return self._last_status

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import (FAILURE, RUNNING, SUCCESS, DecoratorNode, PortInformation, Status,
-                            tick_child)
+                            Ticking)
 
 
 class Passthrough(DecoratorNode):
@@ -15,9 +15,9 @@ class Passthrough(DecoratorNode):
     def convert(self, status: Status) -> Status:
         raise NotImplementedError
 
-    def tick_now(self) -> None:
-        tick_child(self.decorated)
-        self._finish(self.convert(self.decorated.status))
+    def tick_children(self) -> Ticking:
+        yield from self.decorated.tick()
+        return self.convert(self.decorated.status)
 
 
 class Inverter(Passthrough):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, RUNNING, DecoratorNode, Port, PortInformation, tick_child
+from behaviors.base import FAILURE, RUNNING, DecoratorNode, Port, PortInformation, Ticking
 
 
 class Timed(DecoratorNode):
@@ -26,16 +26,15 @@ class Timeout(Timed):
     INPUT_PORTS = {"msec": Port(int, True, "time allowed, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         now = self.clock.now()
         if self.status is not RUNNING:
             self._deadline = now + self.get_input("msec") / 1000.0
         if now >= self._deadline:
             self.say("timed out")
-            self._finish(FAILURE)
-            return
-        tick_child(self.decorated)
-        self._finish(self.decorated.status)
+            return FAILURE
+        yield from self.decorated.tick()
+        return self.decorated.status
 
 
 class Delay(Timed):
@@ -44,13 +43,12 @@ class Delay(Timed):
     INPUT_PORTS = {"delay_msec": Port(int, True, "delay before the child runs, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         now = self.clock.now()
         if self.status is not RUNNING:
             self._start_at = now + self.get_input("delay_msec") / 1000.0
         if now < self._start_at:
             self.say("waiting {:.2f} s", self._start_at - now)
-            self._finish(RUNNING)
-            return
-        tick_child(self.decorated)
-        self._finish(self.decorated.status)
+            return RUNNING
+        yield from self.decorated.tick()
+        return self.decorated.status

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from behaviors.base import RUNNING, SUCCESS, DecoratorNode, PortInformation, tick_child
+from behaviors.base import RUNNING, SUCCESS, DecoratorNode, PortInformation, Ticking
 from navcore.types import Path
 
 
@@ -43,7 +43,7 @@ class PathLongerOnApproach(DecoratorNode):
     def setup(self, **kwargs: Any) -> None:
         pass
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         new = self.read("path")
         old = self._old
         if not self._first and (old is None or len(old) == 0 or new is None or len(new) == 0
@@ -53,16 +53,14 @@ class PathLongerOnApproach(DecoratorNode):
                 and new.length() > self.get_input("length_factor") * old.length()
                 and not self._first):
             child = self.decorated
-            tick_child(child)
+            yield from child.tick()
             if child.status is RUNNING:
                 self.say("new path much longer near the goal: child running")
-                self._finish(RUNNING)
-                return
+                return RUNNING
             self._old = new
             status = child.status
             self.halt_child()
-            self._finish(status)
-            return
+            return status
         self._old = new
         self._first = False
-        self._finish(SUCCESS)
+        return SUCCESS
