@@ -159,6 +159,8 @@ def test_pool_and_dask_give_identical_records(tmp_path, catalogue):
          if r["scenario"] == "straight.yaml" and r["seed"] == 3}
     assert t[0.3] > t[0.55]
     assert all(r["path_length_m"] > 1.6 for r in ra if r["solved"])  # 2 m less the goal tolerance
+    assert all(0.25 < r["min_clearance_m"] < 1.0 for r in ra)      # never touched, never far
+    assert all(r["turning_rad_per_m"] >= 0 for r in ra)
     # running the same sweep again finds everything finished
     again = run_sweep(spec, str(tmp_path / "pool"), jobs=2, out=out)
     assert (again.skipped, again.ran) == (12, 0)
@@ -339,3 +341,27 @@ def test_sweep_over_ros_parameter_files(tmp_path, catalogue):
     other = load_sweep(_spec(tmp_path, "scenarios: scenarios/straight.yaml\n"
                                        "grid:\n  DWAPlannerROS.sim_time: [1.5, 2.5]\n"))
     assert {x.run_id for x in spec.tasks()}.isdisjoint({x.run_id for x in other.tasks()})
+
+
+def test_clearance_and_turning_of_known_paths():
+    import math
+
+    import numpy as np
+
+    from executive.scenario import Shape
+    from executive.sweeps.metrics import min_clearance, turning_per_metre
+    from navcore.maps import OccupancyGrid
+    grid = OccupancyGrid(np.zeros((40, 60), np.int16), 0.1)     # 6 m x 4 m, empty
+    grid.data[:, 59] = 100                                       # a wall at x = 5.9..6.0
+    box = Shape("box", (2.0, 1.0, 2.4, 1.4))
+    line = [(0.55 + 0.01 * i, 2.05, 0.0) for i in range(100)]    # y = 2.05, x 0.55 .. 1.54
+    # nearest obstacle: the box corner (2.05, 1.35) cell centre from (1.54, 2.05)
+    assert min_clearance(line, grid, [box]) == pytest.approx(math.hypot(2.05 - 1.55, 2.05 - 1.35),
+                                                             abs=0.011)
+    assert min_clearance(line, grid) == pytest.approx(5.95 - 1.55, abs=0.011)   # the wall
+    assert turning_per_metre(line) == 0.0
+    r = 1.5
+    arc = [(r * math.cos(a), r * math.sin(a), a + math.pi / 2)
+           for a in np.linspace(0, math.pi / 2, 200)]
+    assert turning_per_metre(arc) == pytest.approx(1 / r, rel=1e-3)
+    assert turning_per_metre([(0, 0, 0), (0, 0, 1)]) is None    # turned on the spot only

@@ -42,6 +42,8 @@ class PointStats:
     contacts: int
     mean_time_s: float | None
     mean_path_m: float | None
+    mean_clearance_m: float | None = None
+    mean_turning: float | None = None
 
     @property
     def rate(self) -> float:
@@ -58,7 +60,18 @@ class PointStats:
                 "ci95": [round(lo, 4), round(hi, 4)], "met_expectation": self.passed,
                 "errors": self.errors, "contacts": self.contacts,
                 "mean_time_s": None if self.mean_time_s is None else round(self.mean_time_s, 3),
-                "mean_path_m": None if self.mean_path_m is None else round(self.mean_path_m, 3)}
+                "mean_path_m": None if self.mean_path_m is None else round(self.mean_path_m, 3),
+                "mean_min_clearance_m": _round(self.mean_clearance_m),
+                "mean_turning_rad_per_m": _round(self.mean_turning)}
+
+
+def _round(v: float | None, n: int = 3) -> float | None:
+    return None if v is None else round(v, n)
+
+
+def _mean(values: list[Any]) -> float | None:
+    vals = [v for v in values if v is not None]
+    return sum(vals) / len(vals) if vals else None
 
 
 def point_stats(records: Sequence[dict[str, Any]]) -> list[PointStats]:
@@ -75,7 +88,9 @@ def point_stats(records: Sequence[dict[str, Any]]) -> list[PointStats]:
                               sum(r["passed"] for r in rs), len(rs) - len(ok),
                               sum(r["contacts"] or 0 for r in ok),
                               sum(times) / len(times) if times else None,
-                              sum(paths) / len(paths) if paths else None))
+                              sum(paths) / len(paths) if paths else None,
+                              _mean([r.get("min_clearance_m") for r in ok]),
+                              _mean([r.get("turning_rad_per_m") for r in ok])))
     return out
 
 
@@ -86,8 +101,8 @@ def _fmt(v: Any) -> str:
 def print_table(stats: Sequence[PointStats], out: TextIO) -> None:
     """One row per (tree, point): runs, success rate with its 95 % interval, time, contacts."""
     keys = sorted({k for s in stats for k in s.point})
-    head = ["tree"] + keys + ["runs", "success", "95% CI", "met", "mean t (s)", "contacts",
-                              "errors"]
+    head = ["tree"] + keys + ["runs", "success", "95% CI", "met", "mean t (s)", "clear (m)",
+                              "turn (rad/m)", "contacts", "errors"]
     rows = []
     for s in stats:
         lo, hi = s.interval
@@ -95,6 +110,8 @@ def print_table(stats: Sequence[PointStats], out: TextIO) -> None:
                     [str(s.runs), f"{100 * s.rate:.0f}%", f"[{100 * lo:.0f}, {100 * hi:.0f}]",
                      f"{s.passed}/{s.runs}",
                      "-" if s.mean_time_s is None else f"{s.mean_time_s:.1f}",
+                     "-" if s.mean_clearance_m is None else f"{s.mean_clearance_m:.2f}",
+                     "-" if s.mean_turning is None else f"{s.mean_turning:.2f}",
                      str(s.contacts), str(s.errors)])
     widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h)
               for i, h in enumerate(head)]

@@ -64,11 +64,12 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
         "tree": os.path.splitext(os.path.basename(task.tree))[0], "point": point,
         "outcome": "error", "reason": None, "passed": 0, "solved": 0, "sim_time_s": None,
         "recoveries": [], "n_recoveries": 0, "contacts": None, "path_length_m": None,
-        "goals_reached": None, "goals_total": None, "error": None,
-        "navbt_version": navbt_version()}
+        "min_clearance_m": None, "turning_rad_per_m": None, "goals_reached": None,
+        "goals_total": None, "error": None, "navbt_version": navbt_version()}
     try:
         from executive.scenario import run_scenario
         from executive.sweeps.apply import apply_point, tree_with_ports
+        from executive.sweeps.metrics import min_clearance, turning_per_metre
         scenario = apply_point(_scenario(task.scenario), point, task.config, seed=task.seed,
                                time_limit=task.time_limit)
         if _tree_dir is None:
@@ -76,11 +77,22 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
         sub = os.path.join(_tree_dir, task.run_id)
         os.makedirs(sub, exist_ok=True)
         tree = tree_with_ports(task.tree, point, sub)
-        r = run_scenario(scenario, tree, config_path=task.config)
+        poses: list[tuple[float, float, float]] = []
+
+        def on_tick(ex: Any) -> None:
+            p = ex.io.true_pose()
+            if p is not None:
+                poses.append((p.x, p.y, p.theta))
+
+        r = run_scenario(scenario, tree, config_path=task.config, on_tick=on_tick)
+        clearance = min_clearance(poses, scenario.grid, scenario.objects)
+        turning = turning_per_metre(poses)
         record.update(outcome=r.outcome, reason=r.reason or None, passed=int(r.passed),
                       solved=int(r.solved), sim_time_s=round(r.sim_time, 6),
                       recoveries=list(r.recoveries), n_recoveries=len(r.recoveries),
                       contacts=int(r.collisions), path_length_m=round(r.distance, 6),
+                      min_clearance_m=None if clearance is None else round(clearance, 6),
+                      turning_rad_per_m=None if turning is None else round(turning, 6),
                       goals_reached=int(r.goals_reached), goals_total=len(scenario.goals))
     except Exception as e:  # noqa: BLE001 - one broken run is that run's error, never the sweep's
         tb = traceback.extract_tb(e.__traceback__)
@@ -96,8 +108,9 @@ def _error_record(task: RunTask, why: str) -> dict[str, Any]:
             "seed": task.seed, "tree": os.path.splitext(os.path.basename(task.tree))[0],
             "point": dict(task.point), "outcome": "error", "reason": None, "passed": 0,
             "solved": 0, "sim_time_s": None, "recoveries": [], "n_recoveries": 0,
-            "contacts": None, "path_length_m": None, "goals_reached": None,
-            "goals_total": None, "error": why, "navbt_version": navbt_version()}
+            "contacts": None, "path_length_m": None, "min_clearance_m": None,
+            "turning_rad_per_m": None, "goals_reached": None, "goals_total": None,
+            "error": why, "navbt_version": navbt_version()}
 
 
 # --------------------------------------------------------------------------- executors

@@ -7,7 +7,8 @@ one reads their ids back. Parquet files are written whole (a row group at a time
 a log beside them for that. Reports read the rows with plain SQL.
 
 Columns are split in two: the run's *record* (identity, parameters, outcome, reason, times,
-recoveries, contacts, path length: byte-identical whichever executor ran it) and its *timing*
+recoveries, contacts, path length,
+clearance, turning: byte-identical whichever executor ran it) and its *timing*
 (wall time, worker, when, which invocation): these differ run to run and are documented as such.
 """
 
@@ -21,7 +22,8 @@ from typing import Any, Iterable
 
 RECORD_COLUMNS = ("run_id", "scenario", "seed", "tree", "point", "outcome", "reason", "passed",
                   "solved", "sim_time_s", "recoveries", "n_recoveries", "contacts",
-                  "path_length_m", "goals_reached", "goals_total", "error", "navbt_version")
+                  "path_length_m", "min_clearance_m", "turning_rad_per_m", "goals_reached",
+                  "goals_total", "error", "navbt_version")
 TIMING_COLUMNS = ("wall_time_s", "worker", "finished_at", "session")
 
 _SCHEMA = f"""
@@ -30,6 +32,7 @@ CREATE TABLE IF NOT EXISTS runs (
     scenario TEXT NOT NULL, seed INTEGER NOT NULL, tree TEXT NOT NULL, point TEXT NOT NULL,
     outcome TEXT NOT NULL, reason TEXT, passed INTEGER, solved INTEGER, sim_time_s REAL,
     recoveries TEXT, n_recoveries INTEGER, contacts INTEGER, path_length_m REAL,
+    min_clearance_m REAL, turning_rad_per_m REAL,
     goals_reached INTEGER, goals_total INTEGER, error TEXT, navbt_version TEXT,
     wall_time_s REAL, worker TEXT, finished_at REAL, session INTEGER
 );
