@@ -365,3 +365,10 @@ def test_clearance_and_turning_of_known_paths():
            for a in np.linspace(0, math.pi / 2, 200)]
     assert turning_per_metre(arc) == pytest.approx(1 / r, rel=1e-3)
     assert turning_per_metre([(0, 0, 0), (0, 0, 1)]) is None    # turned on the spot only
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "examples" / "sweeps").glob("*.yaml")),
+                         ids=lambda p: p.name)
+def test_example_sweep_files_check(path):
+    spec = load_sweep(path)
+    assert spec.tasks() and (spec.points or spec.search)
