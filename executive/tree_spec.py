@@ -74,6 +74,7 @@ class PortValue:
 
     raw: Any
     where: Where
+    text: str | None = None  # a YAML number as written ("0.30"), so XML gets the same text
 
     @property
     def ref(self) -> str | None:

@@ -191,7 +191,8 @@ def _write_node(spec: NodeSpec, indent: int, out: list[str]) -> None:
     if spec.type == "SubTree" and spec.autoremap:
         attrs.append('_autoremap="true"')
     for port, pv in spec.ports.items():
-        attrs.append(f"{port}={quoteattr(format_value(pv.raw))}")
+        text = pv.text if pv.text is not None else format_value(pv.raw)
+        attrs.append(f"{port}={quoteattr(text)}")
     head = f"{pad}<{tag}" + "".join(" " + a for a in attrs)
     if not spec.children:
         out.append(head + "/>")

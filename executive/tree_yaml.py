@@ -89,7 +89,11 @@ class _Reader:
                 if isinstance(vn, (yaml.MappingNode, yaml.SequenceNode)) and _holds_nodes(vn):
                     raise spec.error(f"port '{key}' holds nodes; use 'children:' or 'child:'",
                                      kwhere)
-                spec.ports[key] = PortValue(self.value(vn), kwhere)
+                value = self.value(vn)
+                text = vn.value if (isinstance(vn, yaml.ScalarNode) and not vn.style
+                                    and isinstance(value, (int, float))
+                                    and not isinstance(value, bool)) else None
+                spec.ports[key] = PortValue(value, kwhere, text)
         if spec.type == "SubTree":
             spec.take_subtree_fields("id")
         return spec
@@ -185,6 +189,8 @@ def _attach_comments(doc: TreeDoc, text: str, file: str) -> None:
 def _plain(value: Any) -> Any:
     """A port value as plain YAML data (poses become {x, y, theta})."""
     from navcore.types import Pose2D
+    if isinstance(value, _Lexical):
+        return value
     if isinstance(value, Pose2D):
         return {"x": value.x, "y": value.y, "theta": value.theta}
     if isinstance(value, list):
@@ -192,6 +198,45 @@ def _plain(value: Any) -> Any:
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
     return value
+
+
+class _Lexical(float):
+    """A float written in YAML exactly as its XML text (``0.30`` stays ``0.30``)."""
+
+    text: str
+
+
+def _as_written(text: str, value: Any) -> Any:
+    """The typed ``value`` of an XML attribute, written in YAML with the attribute's own text
+    when it is a number, so that XML -> YAML -> XML keeps ``wait_duration="5"`` and
+    ``backup_dist="0.30"`` as they were."""
+    from executive.tree_xml import format_value
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or format_value(value) == text:
+        return value
+    if isinstance(value, float):
+        try:
+            as_int = int(text)
+            if str(as_int) == text.strip():
+                return as_int
+        except ValueError:
+            pass
+        try:
+            if float(text) == value and yaml.safe_load(text) == value:
+                lex = _Lexical(value)
+                lex.text = text.strip()
+                return lex
+        except (ValueError, yaml.YAMLError):
+            pass
+    return value
+
+
+class _Dumper(yaml.SafeDumper):
+    pass
+
+
+_Dumper.add_representer(
+    _Lexical, lambda d, v: d.represent_scalar("tag:yaml.org,2002:float", v.text))
 
 
 def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool,
@@ -212,9 +257,12 @@ def _node_data(spec: NodeSpec, classes: dict[str, Any], from_text: bool,
         value = pv.raw
         if from_text and pv.ref is None and cls is not None and port in cls.input_ports():
             try:
-                value = convert_literal(value, cls.input_ports()[port].data_type, True)
+                value = _as_written(value, convert_literal(
+                    value, cls.input_ports()[port].data_type, True))
             except ValueError:
                 pass  # left as text; loading it will report the problem
+        elif pv.text is not None:
+            value = _as_written(pv.text, value)
         body[port] = _plain(value)
     if spec.children:
         kids = [_node_data(c, classes, from_text, comments) for c in spec.children]
@@ -239,7 +287,7 @@ def write_yaml(doc: TreeDoc, main_tree: str, classes: dict[str, Any],
         data["nav2_distro"] = distro
     data["trees"] = {tid: _node_data(spec, classes, doc.from_text, comments)
                      for tid, spec in doc.trees.items()}
-    text = yaml.safe_dump(data, sort_keys=False, default_flow_style=False, width=100)
+    text = yaml.dump(data, Dumper=_Dumper, sort_keys=False, default_flow_style=False, width=100)
     out = [f"# {part}".rstrip() for c in doc.comments for part in (c.splitlines() or [""])]
     for line in text.splitlines():
         stripped = line.lstrip(" -")

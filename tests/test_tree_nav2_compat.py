@@ -199,3 +199,40 @@ def test_distribution_from_file_attribute_option_and_default(tmp_path):
     bad = write(tmp_path, "bad.xml", body.format(attrs='BTCPP_format="4" nav2_distro="iron"'))
     with pytest.raises(TreeError, match="unknown Nav2 distribution 'iron'"):
         load_xml(bad)
+
+
+def test_mission_nodes_lists_every_nav2_node_but_the_documented_few(capsys):
+    """Every node type of the four distributions' palettes and plugin registrations is a navbt
+    node, except NOT_PROVIDED, and docs/trees.md names each of those with its reason."""
+    from pathlib import Path
+
+    from executive import nav2_model
+    from executive.cli import main
+    assert main(["nodes"]) == 0
+    listed = {line.split()[0] for line in capsys.readouterr().out.splitlines()
+              if line.startswith("  ")}
+    missing = nav2_model.all_node_types() - listed - set(nav2_model.NOT_PROVIDED)
+    assert not missing
+    assert not set(nav2_model.NOT_PROVIDED) & listed
+    docs = (Path(__file__).resolve().parent.parent / "docs" / "trees.md").read_text()
+    for name, reason in nav2_model.NOT_PROVIDED.items():
+        assert f"| `{name}` | {reason} |" in docs
+
+
+def test_groot_palette_has_every_node(tmp_path, capsys):
+    import xml.etree.ElementTree as ET
+
+    from behaviors.base import node_classes
+    from executive import nav2_model
+    from executive.cli import main
+    out = tmp_path / "palette.xml"
+    assert main(["nodes", "--groot", str(out)]) == 0
+    model = ET.parse(out).getroot().find("TreeNodesModel")
+    ids = {el.get("ID"): el for el in model}
+    expected = set(node_classes()) - set(nav2_model.BTCPP_BUILTINS)
+    assert set(ids) == expected
+    spin = ids["Spin"]
+    assert spin.tag == "Action"
+    assert {p.get("name") for p in spin} >= {"spin_dist", "time_allowance", "error_code_id",
+                                            "error_msg"}
+    assert ids["RecoveryNode"].tag == "Control" and ids["RateController"].tag == "Decorator"

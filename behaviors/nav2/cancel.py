@@ -1,4 +1,4 @@
-"""CancelControl (Nav2 action)."""
+"""CancelControl, CancelSpin, CancelBackUp, CancelDriveOnHeading, CancelWait (Nav2 actions)."""
 
 from __future__ import annotations
 
@@ -25,3 +25,22 @@ class CancelControl(Leaf):
         self.write("cmd_vel", Twist.zero())
         self.say("control cancelled: zero command")
         return SUCCESS
+
+
+class CancelSpin(CancelControl):
+    """Stop a Spin: zero ``cmd_vel`` this tick, SUCCESS (Nav2 ``CancelSpin`` cancels the
+    behaviour server's spin goal)."""
+
+
+class CancelBackUp(CancelControl):
+    """Stop a BackUp: zero ``cmd_vel`` this tick, SUCCESS (Nav2 ``CancelBackUp``)."""
+
+
+class CancelDriveOnHeading(CancelControl):
+    """Stop a DriveOnHeading: zero ``cmd_vel`` this tick, SUCCESS (Nav2
+    ``CancelDriveOnHeading``)."""
+
+
+class CancelWait(CancelControl):
+    """End a Wait early: SUCCESS at once (Nav2 ``CancelWait``); the base gets zero as after
+    any wait."""
