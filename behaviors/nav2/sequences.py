@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import py_trees
 
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, tick_child
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Control, PortInformation, Ticking
 
 
 class NonblockingSequence(Control):
@@ -16,17 +16,17 @@ class NonblockingSequence(Control):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         all_done = True
         for child in self.children:
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is FAILURE:
-                self._finish(FAILURE)
-                return
+                self.halt_children()
+                return FAILURE
             if child.status is not SUCCESS:
                 all_done = False
-        self._finish(SUCCESS if all_done else RUNNING)
+        return SUCCESS if all_done else RUNNING
 
 
 class PersistentSequence(Control):
@@ -44,24 +44,23 @@ class PersistentSequence(Control):
         if key is not None:  # a literal index cannot be written back (as a constant in BT.CPP)
             py_trees.blackboard.Blackboard.storage[key] = index
 
-    def tick_now(self) -> None:
+    def tick_children(self) -> Ticking:
         index = self.read("current_child_idx")
         if index is None:
             self.say("current_child_idx is not set (set it with a Script or SetBlackboard)")
-            self._finish(FAILURE)
-            return
+            return FAILURE
         while index < len(self.children):
             child = self.children[index]
             self.current_child = child
-            tick_child(child)
+            yield from child.tick()
             if child.status is RUNNING:
-                self._finish(RUNNING)
-                return
+                return RUNNING
             if child.status is FAILURE:
                 self._store(0)
-                self._finish(FAILURE)
-                return
+                self.halt_children()
+                return FAILURE
             index += 1
             self._store(index)
         self._store(0)
-        self._finish(SUCCESS)
+        self.halt_children()
+        return SUCCESS
