@@ -27,7 +27,7 @@ from typing import Any, Callable
 import py_trees
 from py_trees.common import Status
 
-from behaviors.base import FAILURE, SUCCESS, Recovery
+from behaviors.base import FAILURE, Recovery
 from hw.interfaces import BaseEvents, BatteryState, RobotIO
 from navcore.clock import Clock, WallClock
 from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
@@ -35,6 +35,8 @@ from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
 from executive.perception import Perception
 from executive.recorder import BlackboardWatcher, Recorder, subsample_path, walk
 from executive.safety import SafetyGate, Watchdog
+from executive.task import MissionResult, Task
+from executive.tree_loader import LoadedTree
 
 _mission_ids = itertools.count(1)
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
@@ -104,33 +106,6 @@ def failing_node(e: BaseException) -> tuple[py_trees.behaviour.Behaviour | None,
     return node, where
 
 
-@dataclass
-class MissionResult:
-    """Outcome of ``Executive.run``: ``succeeded``, ``failed``, ``timeout`` or ``stopped``."""
-
-    outcome: str
-    goals_reached: int
-    goals_total: int
-    sim_time: float
-    ticks: int
-    distance: float
-    recoveries: list[str]
-    collisions: int
-    reason: str = ""
-    traceback: str = ""  # of the INTERNAL_ERROR that ended the mission, if one did
-
-    @property
-    def succeeded(self) -> bool:
-        return self.outcome == "succeeded"
-
-    def as_dict(self) -> dict[str, Any]:
-        return {"outcome": self.outcome, "goals_reached": self.goals_reached,
-                "goals_total": self.goals_total, "time_s": round(self.sim_time, 3),
-                "ticks": self.ticks, "distance_m": round(self.distance, 3),
-                "recoveries": list(self.recoveries), "collisions": self.collisions,
-                "reason": self.reason, **({"traceback": self.traceback} if self.traceback else {})}
-
-
 class Executive:
     """Runs one behaviour tree against one robot, one control period per tick.
 
@@ -140,7 +115,7 @@ class Executive:
     robot I/O's ground truth, else its odometry, and nothing updates costmaps).
     """
 
-    def __init__(self, tree: py_trees.trees.BehaviourTree, io: RobotIO, clock: Clock,
+    def __init__(self, tree: LoadedTree | py_trees.trees.BehaviourTree, io: RobotIO, clock: Clock,
                  control_period: float, components: dict[str, Any] | None = None, *,
                  safety: SafetyGate | None = None, recorder: Recorder | None = None,
                  perception: Perception | None = None,
@@ -148,7 +123,15 @@ class Executive:
                  wall_clock: Clock | None = None) -> None:
         if control_period <= 0:
             raise ValueError(f"Executive: control_period must be > 0, got {control_period}")
-        self.tree = tree
+        if isinstance(tree, LoadedTree):
+            if namespace is not None and namespace.rstrip("/") != tree.namespace:
+                raise ValueError(f"Executive: namespace {namespace!r} is not the tree's "
+                                 f"{tree.namespace!r}")
+            namespace = tree.namespace
+        self.namespace = namespace or f"/mission_{next(_mission_ids)}"
+        # the tree handle (blackboard keys of the mission) and the py_trees manager it holds
+        self.handle = tree if isinstance(tree, LoadedTree) else LoadedTree.of(tree, self.namespace)
+        self.tree = self.handle.tree
         self.io = io
         self.clock = clock
         self.period = float(control_period)
@@ -156,7 +139,6 @@ class Executive:
         self.safety = safety if safety is not None else SafetyGate(require_laser=io.laser is not None)
         self.recorder = recorder if recorder is not None else Recorder(None)
         self.perception = perception
-        self.namespace = namespace or f"/mission_{next(_mission_ids)}"
         self.robot = LiveRobotState()
         self.trace = Trace()
         self.tick_count = 0
@@ -165,11 +147,7 @@ class Executive:
         # only to measure overruns, never to decide anything
         self._wall = wall_clock if wall_clock is not None else WallClock()
         self._events: list[dict[str, Any]] = []
-        self._bb = py_trees.blackboard.Client(name=f"executive{self.namespace}",
-                                              namespace=self.namespace)
-        for key in ("goal", "goals", "cmd_vel", "path"):
-            self._bb.register_key(key, access=py_trees.common.Access.WRITE)
-        self._bb.cmd_vel = None
+        self.handle.set("cmd_vel", None)
         self._cmd_key = f"{self.namespace}/cmd_vel"
         self._watcher = BlackboardWatcher(self.namespace)
         # recovery nodes and the starts seen so far (each start is a "recovery fired" event)
@@ -214,16 +192,17 @@ class Executive:
     # --- goals --------------------------------------------------------------------------------
     def set_goal(self, goal: Pose2D, goals: list[Pose2D] | None = None) -> None:
         """Start a new goal: the tree restarts from scratch with ``goal`` on the blackboard."""
-        self._bb.goal = goal
-        self._bb.goals = list(goals) if goals is not None else [goal]
-        self._bb.path = None
+        self.handle.set("goal", goal)
+        self.handle.set("goals", list(goals) if goals is not None else [goal])
+        self.handle.set("path", None)
         if self.tree.root.status != Status.INVALID:
             self.tree.interrupt()
         self.trace.goals.append((goal.x, goal.y, goal.theta))
         self._events.append({"goal": [goal.x, goal.y, goal.theta]})
 
     def blackboard_get(self, key: str, default: Any = None) -> Any:
-        return py_trees.blackboard.Blackboard.storage.get(f"{self.namespace}/{key}", default)
+        """A mission-level blackboard key, ``default`` if unset."""
+        return self.handle.get(key, default)
 
     # --- the cycle (DESIGN.md section 2) ------------------------------------------------------
     def step(self) -> Status:
@@ -403,39 +382,7 @@ class Executive:
         """
         if not goals:
             raise ValueError("Executive.run: no goals given")
-        t0 = self.clock.now()
-        reached = 0
-        outcome, reason = "succeeded", ""
-        for goal in goals:
-            self.set_goal(goal)
-            status = Status.RUNNING
-            while True:
-                status = self.step()
-                if on_tick is not None and on_tick(self):
-                    outcome, reason = "stopped", "stopped by caller"
-                    break
-                if status is SUCCESS or status is FAILURE:
-                    break
-                if self.clock.now() - t0 >= time_limit:
-                    outcome, reason = "timeout", f"time limit {time_limit:g} s reached"
-                    break
-            if outcome != "succeeded":
-                break
-            if status == Status.FAILURE:
-                outcome = "failed"
-                reason = self._failure_reason()
-                break
-            reached += 1
-        if self.tree.root.status == Status.RUNNING:
-            self.tree.interrupt()
-        self.stop_robot()
-        result = MissionResult(outcome, reached, len(goals), self.clock.now() - t0,
-                               self.tick_count, self.trace.distance(),
-                               [r["recovery"] for r in self.trace.recoveries],
-                               self.collisions(), reason,
-                               self.internal_error["traceback"] if self.internal_error else "")
-        self.recorder.footer(result.as_dict())
-        return result
+        return Task(self, goals, time_limit).run(on_tick)
 
     def collisions(self) -> int:
         """Distinct contact episodes (contacts more than 1 s apart count separately)."""
@@ -446,7 +393,9 @@ class Executive:
             last = c["t"]
         return n
 
-    def _failure_reason(self) -> str:
+    def failure_reason(self) -> str:
+        """Why the tree failed: a bug's INTERNAL_ERROR, the last error, else an error key on
+        the blackboard."""
         if self.internal_error is not None:
             e = self.internal_error
             return f"INTERNAL_ERROR in '{e['node']}' ({e['in']}): {e['error']}"

@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from hw.interfaces import RobotIO
 from navcore.clock import Clock, SimClock, WallClock
 from navcore.maps import OccupancyGrid
 from navcore.types import Pose2D
@@ -22,6 +23,7 @@ from executive.config import RobotConfig
 from executive.errors import WiringError
 from executive.executive import Executive, MissionResult, _mission_ids
 from executive.loading import load_tree_file
+from executive.tree_loader import LoadedTree
 from executive.perception import Localisation, Perception, paint_phantom
 from executive.progress import progress_callback
 from executive.recorder import Recorder
@@ -31,7 +33,8 @@ from executive.safety import SafetyGate
 from executive.stack import Stack
 from executive.world import World, free_start
 
-__all__ = ["Mission", "WiringError", "World", "build_mission", "run_mission", "free_start",
+__all__ = ["Mission", "WiringError", "World", "build_mission", "assemble", "run_mission",
+           "free_start",
            "progress_callback", "paint_phantom", "hardware_mode", "SimIO", "HardwareIO",
            "EmulatedIO"]
 
@@ -50,12 +53,13 @@ class Mission:
     stack: Stack | None = None
 
 
-def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
+def build_mission(tree_path: str | LoadedTree, config: RobotConfig, grid: OccupancyGrid,
                   start: Pose2D | None, *,
                   world: World | None = None, seed: int = 0, realtime: bool = False,
                   recorder: Recorder | None = None, meta: dict[str, Any] | None = None,
                   hardware: bool | str = False) -> Mission:
-    """Load the tree, build every component from ``config`` and put them in an Executive.
+    """Load the tree (or take a loaded one), build every component from ``config`` and put
+    them in an Executive.
 
     ``hardware``: False runs the simulator's direct interfaces; True (or "devices") the drivers
     of ``robot.devices`` on the wall clock with reader threads; "emulated" the real Kobuki and
@@ -65,30 +69,55 @@ def build_mission(tree_path: str, config: RobotConfig, grid: OccupancyGrid,
     mode = hardware_mode(hardware)
     clock: Clock = WallClock() if realtime or mode == "devices" else SimClock()
     rng = np.random.default_rng(seed)
-    namespace = f"/mission_{next(_mission_ids)}"   # the executive's counter: names stay unique
-    tree = load_tree_file(tree_path, namespace=namespace, port_defaults=config.port_defaults())
+    if isinstance(tree_path, LoadedTree):
+        tree, source, namespace = tree_path, tree_path.source, tree_path.namespace
+    else:
+        namespace = f"/mission_{next(_mission_ids)}"   # the executive's counter: names unique
+        tree = load_tree_file(tree_path, namespace=namespace,
+                              port_defaults=config.port_defaults())
+        source = str(tree_path)
     stack = Stack.from_config(config, grid, clock)
     io, sim = open_robot_io(mode, config, grid, start, world, clock, rng, namespace)
+    return assemble(tree, source, config, grid, start, stack, io, clock, rng,
+                    localise="amcl" in config.namespaces or mode != "sim",  # drivers: no truth
+                    sim=sim, world=world, recorder=recorder, meta=meta, namespace=namespace)
+
+
+def assemble(tree: LoadedTree | Any, tree_source: str, config: RobotConfig, grid: OccupancyGrid,
+             start: Pose2D | None, stack: Stack, io: RobotIO, clock: Clock,
+             rng: np.random.Generator, *, localise: bool, sim: Any = None,
+             world: World | None = None, recorder: Recorder | None = None,
+             meta: dict[str, Any] | None = None, require_laser: bool = True,
+             namespace: str | None = None) -> Mission:
+    """Put a loaded tree, a stack and a robot I/O together in an Executive. ``localise``: run
+    AMCL (from the ``amcl`` namespace) rather than take the robot I/O's ground truth."""
+    world = world or World()
     mount = laser_mount(io)
     localisation = None
-    if "amcl" in config.namespaces or mode != "sim":   # drivers give no ground truth
+    if localise:
         stack.add_localizer(grid, start, rng)
         localisation = Localisation(stack.localizer, mount)
     components = stack.components()
     perception = Perception({"local": stack.local_costmap, "global": stack.global_costmap},
                             mount, localisation, world.phantoms)
+    namespace = namespace or getattr(tree, "namespace", None)
     try:
         ex = Executive(tree, io, clock, config.control_period(), components,
-                       safety=SafetyGate(config.safety), recorder=recorder,
-                       perception=perception, namespace=namespace,
-                       meta=dict(meta or {}, tree=os.path.abspath(tree_path),
+                       safety=SafetyGate(config.safety, require_laser=require_laser),
+                       recorder=recorder, perception=perception, namespace=namespace,
+                       meta=dict(meta or {}, tree=_where(tree_source),
                                  start=None if start is None else [start.x, start.y,
                                                                    start.theta]))
     except Exception as e:  # noqa: BLE001 - a node's setup (e.g. a missing component)
         if isinstance(io, HardwareIO):
             io.close()       # drivers opened for a mission that will not run
-        raise WiringError(f"{tree_path}: tree setup failed: {e}") from None
-    return Mission(ex, grid, config, sim, components, world, tree_path, stack)
+        raise WiringError(f"{tree_source}: tree setup failed: {e}") from None
+    return Mission(ex, grid, config, sim, components, world, tree_source, stack)
+
+
+def _where(tree_source: str) -> str:
+    """The tree's file as an absolute path for the record (text sources stay as named)."""
+    return tree_source if tree_source.startswith("<") else os.path.abspath(tree_source)
 
 
 def run_mission(mission: Mission, goals: list[Pose2D], time_limit: float,

@@ -386,8 +386,8 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
     "emulated"`` runs it through the real drivers and device emulators (see build_mission)."""
     from navcore.clock import WallClock
 
+    from executive.api import open_mission
     from executive.config import ConfigError
-    from executive.mission import build_mission, run_mission
     from executive.recorder import Recorder
     wall = WallClock()
     tree_name = FsPath(tree_path).stem
@@ -401,20 +401,19 @@ def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = No
         from executive.run_folder import open_recorder
         recorder = open_recorder(record_dir, grid=scenario.grid)
     try:
-        mission = build_mission(tree_path, config, scenario.grid, scenario.start, world=world,
-                                seed=scenario.seed, recorder=recorder,
-                                meta={"scenario": scenario.name}, hardware=hardware)
-        result = run_mission(mission, scenario.goals, scenario.time_limit, on_tick=on_tick)
+        nav = open_mission(tree_path, config, scenario.grid, scenario.start, world=world,
+                           seed=scenario.seed, recorder=recorder,
+                           meta={"scenario": scenario.name}, hardware=hardware)
+        nav.follow_waypoints(scenario.goals)
+        result = nav.run(scenario.time_limit, on_tick=on_tick)
         if record_dir is not None:
             from executive.run_folder import finish
-            finish(record_dir, mission.executive, result, scenario.grid, config.footprint(),
+            finish(record_dir, nav.executive, result, scenario.grid, config.footprint(),
                    extra={"name": scenario.name, "tree": tree_path},
                    obstacles=[s.polygon() for s in scenario.objects],
                    phantoms=[shape.polygon() for shape, _ in scenario.phantoms])
-        fired_types = [r["type"] for r in mission.executive.trace.recoveries]
-        mission.executive.shutdown()
-        if hasattr(mission.executive.io, "close"):
-            mission.executive.io.close()      # drivers and emulators of hardware="emulated"
+        fired_types = [r["type"] for r in nav.executive.trace.recoveries]
+        nav.close()      # drivers and emulators of hardware="emulated" too
     finally:
         recorder.close()
     e = scenario.expectation_for(tree_name)

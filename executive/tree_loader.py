@@ -28,8 +28,8 @@ from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
 from executive.tree_yaml import read_yaml, write_yaml
 from navcore.types import Twist
 
-__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "to_xml", "to_yaml",
-           "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
+__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "load_text",
+           "to_xml", "to_yaml", "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
 
 TREES_DIR = Path(__file__).resolve().parent.parent / "trees"
 SHIPPED_TREES = ("move_base", "nav2", "smach_recovery", "near_goal_reconfigure")
@@ -44,16 +44,24 @@ MISSION_KEYS = ("goal", "goals", "goal_update", "path", "cmd_vel", "compute_path
 
 @dataclass
 class LoadedTree:
-    """A built tree: the py_trees root and manager, its namespace and where it came from."""
+    """The tree handle: the py_trees root and manager, its blackboard namespace and where it
+    came from (``doc`` None for a tree built in Python, see ``of``). The Executive drives a
+    mission through this same handle."""
 
     root: py_trees.behaviour.Behaviour
     tree: py_trees.trees.BehaviourTree
     namespace: str
-    source: str
-    main_tree: str
-    doc: TreeDoc
+    source: str = "<python>"
+    main_tree: str = ""
+    doc: TreeDoc | None = None
     distro: str | None = None  # the Nav2 distribution whose semantics the tree follows
     ignored: tuple[str, ...] = ()  # Nav2 attributes kept as written but meaning nothing here
+
+    @classmethod
+    def of(cls, tree: py_trees.trees.BehaviourTree, namespace: str) -> LoadedTree:
+        """The handle of a py_trees tree built in Python, its keys under ``namespace``."""
+        return cls(root=tree.root, tree=tree, namespace=namespace.rstrip("/"),
+                   main_tree=tree.root.name)
 
     def key(self, name: str) -> str:
         """Absolute blackboard key of a mission-level key (e.g. ``goal``)."""
@@ -221,9 +229,18 @@ def load_any(path: str | os.PathLike, namespace: str = "/mission",
 def _doc_and_main(tree: LoadedTree | TreeDoc, main_tree: str | None
                   ) -> tuple[TreeDoc, str, str | None]:
     if isinstance(tree, LoadedTree):
-        return tree.doc, main_tree or tree.main_tree, tree.distro
+        return _doc_of(tree), main_tree or tree.main_tree, tree.distro
     main = main_tree or tree.main_tree or next(iter(tree.trees))
     return tree, main, tree.effective_distro()
+
+
+def load_text(text: str, namespace: str = "/mission", name: str = "<text>",
+              main_tree: str | None = None) -> LoadedTree:
+    """A tree from YAML or BT.CPP XML text (XML when it starts with ``<``); errors and relative
+    includes name ``name`` as the file."""
+    xml = text.lstrip().startswith("<")
+    doc = read_xml(name, text=text) if xml else read_yaml(name, text=text)
+    return _build(doc, namespace, main_tree, xml=xml)
 
 
 def to_xml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
@@ -238,6 +255,12 @@ def to_yaml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
     comments as YAML comments, and ``nav2_distro`` when the tree follows one."""
     doc, main, distro = _doc_and_main(tree, main_tree)
     return write_yaml(doc, main, node_classes(), distro)
+
+
+def _doc_of(tree: LoadedTree) -> TreeDoc:
+    if tree.doc is None:
+        raise TreeError(f"{tree.source}:1: a tree built in Python has no document to export")
+    return tree.doc
 
 
 def shipped_tree(name: str) -> Path:

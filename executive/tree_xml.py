@@ -42,8 +42,9 @@ class _Elem:
     comments: list[str] = field(default_factory=list)
 
 
-def _parse(file: str) -> _Elem:
-    data = read_bytes(file, what="tree file", error=TreeError)
+def _parse(file: str, text: str | None = None) -> _Elem:
+    data = (read_bytes(file, what="tree file", error=TreeError) if text is None
+            else text.encode("utf-8"))
     parser = expat.ParserCreate()
     stack: list[_Elem] = []
     root: list[_Elem] = []
@@ -106,8 +107,10 @@ def _node(el: _Elem, file: str) -> NodeSpec:
     return spec
 
 
-def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
-    """Parse a BT.CPP v4 XML file (and its ``<include path=.../>`` files) into a TreeDoc."""
+def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
+             text: str | None = None) -> TreeDoc:
+    """Parse a BT.CPP v4 XML file or ``text`` (and its ``<include path=.../>`` files) into a
+    TreeDoc."""
     file = str(path)
     real = os.path.realpath(file)
     if real in _stack:
@@ -116,7 +119,7 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     if len(_stack) >= MAX_INCLUDE_DEPTH:
         raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
                         f"(limit)")
-    root = _parse(file)
+    root = _parse(file, text)
     if root.tag != "root":
         raise TreeError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")
     distro = root.attrs.get("nav2_distro")

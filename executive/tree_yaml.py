@@ -108,8 +108,10 @@ def _holds_nodes(n: yaml.Node) -> bool:
                for i in items)
 
 
-def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
-    """Parse ``path`` and, recursively, its includes into one TreeDoc."""
+def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
+              text: str | None = None) -> TreeDoc:
+    """Parse ``path`` (or ``text``, named ``path`` in errors) and, recursively, its includes
+    into one TreeDoc."""
     file = str(path)
     real = os.path.realpath(file)
     if real in _stack:
@@ -118,7 +120,8 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = ()) -> TreeDoc:
     if len(_stack) >= MAX_INCLUDE_DEPTH:
         raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
                         f"(limit)")
-    text = read_text(file, what="tree file", error=TreeError)
+    if text is None:
+        text = read_text(file, what="tree file", error=TreeError)
     root = compose_yaml(text, file, error=TreeError)
     if root is None:
         raise TreeError(f"{file}:1: empty tree file")

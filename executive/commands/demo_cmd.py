@@ -29,10 +29,8 @@ def run(args: argparse.Namespace) -> int:
     import os
 
     from executive.commands._common import config_sources, fail
-    from executive.config import ConfigError
-    from executive.loading import TreeLoadError, shipped_tree
-    from executive.mission import WiringError, progress_callback
-    from executive.progress import Progress
+    from executive.api import ConfigError, TreeLoadError, WiringError, shipped_tree
+    from executive.progress import Progress, progress_callback
     from executive.scenario import ScenarioError, load_scenario, run_scenario
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     scenario = load_scenario(os.path.join(here, "data", "demo.yaml"))

@@ -43,11 +43,8 @@ def run(args: argparse.Namespace) -> int:
     import os
     import sys
 
-    from executive.config import ConfigError
-    from executive.loading import TreeLoadError
-    from executive.mission import WiringError, build_mission, free_start, progress_callback, \
-        run_mission
-    from executive.progress import Progress
+    from executive.api import ConfigError, TreeLoadError, WiringError, open_mission
+    from executive.progress import Progress, progress_callback
     from executive.recorder import Recorder
     from navcore.maps import MapError, load_map
     try:
@@ -62,8 +59,6 @@ def run(args: argparse.Namespace) -> int:
     for i, g in enumerate(args.goal):
         if grid.world_to_map(g.x, g.y) is None:
             return fail("run", f"--goal {g.x:g},{g.y:g}: outside the map {args.map}")
-    # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
-    start = args.start if args.hw else (args.start or free_start(grid))
     live = []
     if args.live:
         from executive.foxglove_out import FoxgloveSink, FoxgloveUnavailable
@@ -83,22 +78,22 @@ def run(args: argparse.Namespace) -> int:
         from executive.run_folder import open_recorder
         recorder = open_recorder(args.record, grid=grid, sinks=live)
     try:
-        mission = build_mission(args.tree, config, grid, start, seed=args.seed,
-                                realtime=args.realtime, recorder=recorder,
-                                hardware="emulated" if args.hw_emulated else args.hw)
+        # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
+        nav = open_mission(args.tree, config, grid, args.start, seed=args.seed,
+                           realtime=args.realtime, recorder=recorder,
+                           hardware="emulated" if args.hw_emulated else args.hw)
     except (TreeLoadError, WiringError) as e:
         recorder.close()
         return fail("run", str(e))
     progress = Progress()
-    result = run_mission(mission, list(args.goal), args.time_limit,
-                         on_tick=progress_callback(progress, args.time_limit))
+    nav.follow_waypoints(args.goal)
+    result = nav.run(args.time_limit, on_tick=progress_callback(progress, args.time_limit))
     progress.done()
-    if args.hw or args.hw_emulated:
-        mission.executive.io.close()
     if args.record:
         from executive.run_folder import finish
-        finish(args.record, mission.executive, result, grid, config.footprint(),
+        finish(args.record, nav.executive, result, grid, config.footprint(),
                extra={"tree": args.tree, "map": os.path.abspath(args.map)})
+    nav.close()
     recorder.close()
     rec = ", ".join(result.recoveries) or "none"
     print(f"{result.outcome}: {result.goals_reached}/{result.goals_total} goals in "
