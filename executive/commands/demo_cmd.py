@@ -40,7 +40,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"demo: {scenario.description.splitlines()[0] if scenario.description else scenario.name}")
     try:
         r = run_scenario(scenario, tree, record_dir=out, config_path=config_sources(args),
-                         on_tick=progress_callback(progress, scenario.time_limit))
+                         on_tick=progress_callback(progress, scenario.time_limit,
+                                                   goals=scenario.goals))
     except (ScenarioError, TreeLoadError, WiringError, ConfigError) as e:
         progress.done()
         return fail("demo", str(e))

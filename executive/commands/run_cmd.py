@@ -87,7 +87,8 @@ def run(args: argparse.Namespace) -> int:
         return fail("run", str(e))
     progress = Progress()
     nav.follow_waypoints(args.goal)
-    result = nav.run(args.time_limit, on_tick=progress_callback(progress, args.time_limit))
+    result = nav.run(args.time_limit, on_tick=progress_callback(progress, args.time_limit,
+                                                                goals=args.goal))
     progress.done()
     if args.record:
         from executive.run_folder import finish
