@@ -63,6 +63,7 @@ class RunCapture:
     scan_every_s: float = 0.2
     local_costmap_every_s: float = 1.0
     global_costmap_every_s: float = 2.0
+    max_global_costmaps: int = 32    # a long run keeps every other one and samples half as often
     particles_every_s: float = 0.5
     max_particles: int = 500
     header: dict[str, Any] = field(default_factory=dict)
@@ -155,6 +156,11 @@ class RunCapture:
             last = self.global_costmaps[-1] if self.global_costmaps else None
             if last is None or not np.array_equal(last.costs, g.costs):
                 self.global_costmaps.append(_grid_sample(comps["global_costmap"], tick, t))
+                if len(self.global_costmaps) > self.max_global_costmaps:
+                    # a big map is megabytes a copy: thin out, first and newest kept
+                    kept = self.global_costmaps
+                    self.global_costmaps = kept[:-1:2] + [kept[-1]]
+                    self.global_costmap_every_s *= 2.0
             self._next["global"] = t + self.global_costmap_every_s
         loc = comps.get("localizer")
         if loc is not None and t >= self._next["particles"] - 1e-9:

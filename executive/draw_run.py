@@ -282,8 +282,9 @@ def draw_run(grid: OccupancyGrid, trajectory: Sequence[Sequence[float]],
     legend: list[tuple[str, Any]] = [
         ("trajectory", ("line", _TRAJ_COLOUR)), ("global plans", ("line", _PATH_COLOURS[1])),
         ("footprint at start", ("box", _START_COLOUR)), ("goal (footprint, heading)",
-                                                         ("box", _GOAL_COLOUR)),
-        ("recovery fired (n: list below)", ("dot", _RECOVERY_COLOUR))]
+                                                         ("box", _GOAL_COLOUR))]
+    if recoveries:
+        legend.append(("recovery fired (n: list below)", ("dot", _RECOVERY_COLOUR)))
     if contacts:
         legend.append(("contact", ("box", _CONTACT_COLOUR)))
     if obstacles:

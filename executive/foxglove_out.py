@@ -7,7 +7,7 @@ Foxglove's well-known schemas (sim time stamps):
 topic              schema                      what
 =================  ==========================  =============================================
 /map               foxglove.Grid               the static map (0 free .. 100 occupied, 255 unknown)
-/global_costmap    foxglove.Grid               costmap_2d values, when they change (<= 0.5 Hz)
+/global_costmap    foxglove.Grid               costmap_2d values, when they change (<= 0.1 Hz)
 /local_costmap     foxglove.Grid               costmap_2d values, 2 Hz
 /scan              foxglove.LaserScan          every new scan, in the ``laser`` frame
 /pose              foxglove.PoseInFrame        the estimated robot pose in ``map``
@@ -40,6 +40,9 @@ from navcore.types import Pose2D
 TOPICS = ("/map", "/global_costmap", "/local_costmap", "/scan", "/pose", "/plan",
           "/particlecloud", "/tf", "/behavior_tree", "/cmd_vel", "/events")
 LIVE_RESEND_S = 2.0        # simulated seconds between re-sends of map and costmaps, live
+# simulated seconds between checks of the global costmap in a recording: a big map is a few MB a
+# message, and compressing those dominated the cost of run.mcap at shorter periods
+GLOBAL_EVERY_S = 10.0
 MAX_PARTICLES = 500
 
 
@@ -241,7 +244,7 @@ class FoxgloveSink:
                     not np.array_equal(self._last_global, costs):
                 self._log("/global_costmap", _cost_grid(self._m, cm.costmap, ns), ns)
                 self._last_global = costs.copy()
-            self._next["global"] = t + LIVE_RESEND_S
+            self._next["global"] = t + (LIVE_RESEND_S if self.live else GLOBAL_EVERY_S)
 
     def _transforms(self, est: Pose2D, odom: Pose2D, ns: int) -> None:
         m = self._m
