@@ -79,8 +79,14 @@ def point_stats(records: Sequence[dict[str, Any]]) -> list[PointStats]:
     groups: dict[tuple[str, str], list[dict[str, Any]]] = defaultdict(list)
     for r in records:
         groups[(r["tree"], json.dumps(r["point"], sort_keys=True))].append(r)
+    def order(item: tuple[tuple[str, str], Any]) -> tuple:
+        (tree, pkey), _ = item
+        point = json.loads(pkey)
+        return (tree,) + tuple((0, v, "") if isinstance(v, (int, float)) else (1, 0, str(v))
+                               for _, v in sorted(point.items()))
+
     out = []
-    for (tree, pkey), rs in sorted(groups.items()):
+    for (tree, pkey), rs in sorted(groups.items(), key=order):
         ok = [r for r in rs if r["outcome"] != "error"]
         times = [r["sim_time_s"] for r in rs if r["solved"]]
         paths = [r["path_length_m"] for r in rs if r["solved"] and r["path_length_m"] is not None]
@@ -101,7 +107,7 @@ def _fmt(v: Any) -> str:
 def print_table(stats: Sequence[PointStats], out: TextIO) -> None:
     """One row per (tree, point): runs, success rate with its 95 % interval, time, contacts."""
     keys = sorted({k for s in stats for k in s.point})
-    head = ["tree"] + keys + ["runs", "success", "95% CI", "met", "mean t (s)", "clear (m)",
+    head = ["tree"] + keys + ["runs", "success", "95% CI", "met", "mean t (s)", "path (m)", "clear (m)",
                               "turn (rad/m)", "contacts", "errors"]
     rows = []
     for s in stats:
@@ -110,6 +116,7 @@ def print_table(stats: Sequence[PointStats], out: TextIO) -> None:
                     [str(s.runs), f"{100 * s.rate:.0f}%", f"[{100 * lo:.0f}, {100 * hi:.0f}]",
                      f"{s.passed}/{s.runs}",
                      "-" if s.mean_time_s is None else f"{s.mean_time_s:.1f}",
+                     "-" if s.mean_path_m is None else f"{s.mean_path_m:.2f}",
                      "-" if s.mean_clearance_m is None else f"{s.mean_clearance_m:.2f}",
                      "-" if s.mean_turning is None else f"{s.mean_turning:.2f}",
                      str(s.contacts), str(s.errors)])
