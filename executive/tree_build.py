@@ -15,11 +15,15 @@ mission-level key. Ports left unwired that have a well-known default key (``goal
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
 
 import py_trees
 
 from behaviors.base import Control, DecoratorNode, NavNode, namespaced, node_classes, port_problem
+from behaviors.btcpp.prepost import ATTRIBUTES as PREPOST_ATTRIBUTES
+from behaviors.btcpp.prepost import PrePostConditions
+from behaviors.btcpp.scripted import Scripted
+from behaviors.btcpp.scripting import Program, ScriptError, compile_script
 from behaviors.decorators.set_parameters import parse_values
 from executive import nav2_model
 from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors,
@@ -66,6 +70,8 @@ class Scope:
 
 def convert_literal(value: Any, data_type: Any, from_text: bool) -> Any:
     """Convert a literal to the port type, or raise ValueError with what was expected."""
+    if data_type is object:  # any value (SetBlackboard's value, Switch cases): as written
+        return value
     if data_type is float:
         if from_text and isinstance(value, str):
             return float(value)
@@ -260,6 +266,19 @@ class Builder:
             return _Invalid(name=spec.label)
         node.source_location = str(spec.where)  # for error reports at run time
         node.nav2_distro = self.distro  # nodes whose semantics changed between distributions
+        if isinstance(node, Scripted):
+            port = next((p for p in (*cls.SCRIPT_PORTS, *cls.KEY_PORTS) if p in spec.ports), None)
+            try:
+                node.bind(self._resolver(scope))
+            except ScriptError as e:
+                where = spec.ports[port].where if port else spec.where
+                self.errors.append(spec.error(f"{port}: {e}", where))
+                return _Invalid(name=spec.label)
+            for program in getattr(node, "_programs", {}).values():
+                self._writes.update(program.keys_written())
+        scripts = self._prepost(spec, scope)
+        if scripts:
+            return PrePostConditions(node, scripts)
         return node
 
     def _children(self, spec: NodeSpec, cls: type[NavNode], scope: Scope,
@@ -279,6 +298,30 @@ class Builder:
         elif spec.has_children_key:
             self.errors.append(spec.error("is a leaf and takes no children"))
         return [self._node(c, scope, stack) for c in spec.children]
+
+    def _resolver(self, scope: Scope) -> Callable[[str], str]:
+        """Script entry names as the tree's ``{key}`` references resolve them."""
+        def resolve(name: str) -> str:
+            target = scope.resolve(name)
+            if isinstance(target, Literal):
+                raise ScriptError(f"entry '{name}' is mapped to a constant by its SubTree")
+            return target
+        return resolve
+
+    def _prepost(self, spec: NodeSpec, scope: Scope) -> dict[str, Program]:
+        """The compiled ``_skipIf`` ... ``_onHalted`` scripts of a node (errors collected)."""
+        out = {}
+        for attr in PREPOST_ATTRIBUTES:
+            pv = spec.ports.get(attr)
+            if pv is None:
+                continue
+            try:
+                out[attr] = compile_script(str(pv.raw), self._resolver(scope))
+            except ScriptError as e:
+                self.errors.append(spec.error(f"{attr}: {e}", pv.where))
+                continue
+            self._writes.update(out[attr].keys_written())
+        return out
 
     def _nav2_port(self, spec: NodeSpec, port: str, pv: PortValue,
                    literals: dict[str, Any]) -> bool:
@@ -309,6 +352,8 @@ class Builder:
         literals: dict[str, Any] = {}
         choices = getattr(cls, "CHOICES", {})
         for port, pv in spec.ports.items():
+            if port in PREPOST_ATTRIBUTES:
+                continue  # BT.CPP's pre/post conditions: compiled once the node is built
             if port not in inputs and port not in outputs:
                 if self._nav2_port(spec, port, pv, literals):
                     continue

@@ -1,4 +1,2 @@
-"""BehaviorTree.CPP 4 built-in nodes beyond navbt's first set (issue 19). Importing this
-package registers them."""
-
-from behaviors.btcpp import sequence_star  # noqa: F401
+"""BehaviorTree.CPP 4 built-in nodes beyond navbt's first set (issue 19), and the safe subset
+of its scripting language (scripting.py). behaviors.library imports every module."""
