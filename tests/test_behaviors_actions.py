@@ -12,7 +12,8 @@ from py_trees.blackboard import Client
 from py_trees.common import Access, Status
 
 from behaviors.base import make
-from behaviors.error_codes import BehaviorError, ControllerError, PlannerError
+from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError, PlannerError,
+                                 RecoveryError, SpinError)
 from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, straight_path
 from navcore.types import Path, Pose2D, Twist
 
@@ -135,7 +136,7 @@ def test_spin_turns_within_limits_and_stops():
     status, n = rig.run(node)
     theta = rig.world.robot.pose().theta
     assert status == S and abs(theta - 1.57) <= 0.1 + 1e-9
-    assert rig.get("spin_error_code") == BehaviorError.NONE
+    assert rig.get("spin_error_code") == SpinError.NONE
     ws = [abs(t.theta - s.theta) / 0.05 for s, t in zip(rig.world.robot.trajectory,
                                                          rig.world.robot.trajectory[1:])]
     assert max(ws) <= 1.0 + 1e-9                                   # max_rotational_vel
@@ -153,7 +154,7 @@ def test_spin_negative_direction_and_collision_ahead():
     blocked = FakeCostmap(footprint=lambda x, y, t: 254 if t > 0.5 else 0)
     rig2 = Rig(World(local_costmap=blocked))
     status, _ = rig2.run(rig2.node("Spin", spin_dist=1.57))
-    assert status == F and rig2.get("spin_error_code") == BehaviorError.COLLISION_AHEAD
+    assert status == F and rig2.get("spin_error_code") == SpinError.COLLISION_AHEAD
     assert rig2.world.robot.pose().theta < 0.5
 
 
@@ -164,7 +165,7 @@ def test_spin_times_out():
 
     rig = Rig(Stuck())
     status, n = rig.run(rig.node("Spin", spin_dist=1.57, time_allowance=1.0))
-    assert status == F and rig.get("spin_error_code") == BehaviorError.TIMEOUT and n in (21, 22)
+    assert status == F and rig.get("spin_error_code") == SpinError.TIMEOUT and n in (21, 22)
 
 
 def test_backup_drives_backwards_and_stops_at_obstacle():
@@ -175,7 +176,7 @@ def test_backup_drives_backwards_and_stops_at_obstacle():
     wall = FakeCostmap(footprint=lambda x, y, t: 254 if x < -0.2 else 0)
     rig2 = Rig(World(local_costmap=wall))
     status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
-    assert status == F and rig2.get("backup_error_code") == BehaviorError.COLLISION_AHEAD
+    assert status == F and rig2.get("backup_error_code") == BackUpError.COLLISION_AHEAD
     assert rig2.world.robot.pose().x > -0.2
     rig3 = Rig(World(local_costmap=wall))
     status, _ = rig3.run(rig3.node("BackUp", backup_dist=0.5, backup_speed=0.15,
@@ -189,7 +190,7 @@ def test_drive_on_heading_and_invalid_input():
     status, _ = rig.run(rig.node("DriveOnHeading", dist_to_travel=0.4, speed=0.2))
     assert status == S and rig.world.robot.pose().y == pytest.approx(0.4, abs=0.01)
     status, _ = rig.run(rig.node("DriveOnHeading", dist_to_travel=0.4, speed=-0.2))
-    assert status == F and rig.get("drive_on_heading_error_code") == BehaviorError.INVALID_INPUT
+    assert status == F and rig.get("drive_on_heading_error_code") == DriveOnHeadingError.INVALID_INPUT
 
 
 def test_wait_on_sim_clock():
@@ -240,7 +241,7 @@ def test_temporary_goal_fails_without_free_pose():
     cm = FakeCostmap(footprint=lambda x, y, t: 254)
     rig = Rig(World(local_costmap=cm))
     status, _ = rig.run(rig.node("TemporaryGoal"))
-    assert status == F and rig.get("temporary_goal_error_code") == BehaviorError.NO_FREE_POSE
+    assert status == F and rig.get("temporary_goal_error_code") == RecoveryError.NO_FREE_POSE
     unreachable = Rig(World(planner=ScriptedPlanner(fail_always=True)))
     status, n = unreachable.run(unreachable.node("TemporaryGoal", max_plans_per_tick=4,
                                                  arc_first=False))
@@ -278,7 +279,7 @@ def test_back_off_to_previous_pose_follows_the_trail_in_reverse():
 def test_back_off_without_history_fails():
     rig = Rig()
     status, _ = rig.run(rig.node("BackOffToPreviousPose"))
-    assert status == F and rig.get("back_off_error_code") == BehaviorError.NO_POSE_HISTORY
+    assert status == F and rig.get("back_off_error_code") == RecoveryError.NO_POSE_HISTORY
 
 
 def test_navigate_to_pose_subtree():
@@ -314,11 +315,11 @@ def test_temporary_goal_and_back_off_give_up_without_progress():
 
     rig = Rig(Stuck())
     status, n = rig.run(rig.node("TemporaryGoal", movement_time_allowance=2.0))
-    assert status == F and rig.get("temporary_goal_error_code") == BehaviorError.TIMEOUT
+    assert status == F and rig.get("temporary_goal_error_code") == RecoveryError.TIMEOUT
     assert 40 <= n <= 43
     rig.put("pose_history", [Pose2D(-1.0, 0.0, 0.0), Pose2D(-0.5, 0.0, 0.0), Pose2D()])
     status, n = rig.run(rig.node("BackOffToPreviousPose", movement_time_allowance=2.0))
-    assert status == F and rig.get("back_off_error_code") == BehaviorError.TIMEOUT
+    assert status == F and rig.get("back_off_error_code") == RecoveryError.TIMEOUT
     assert 40 <= n <= 43
 
 
@@ -327,7 +328,7 @@ def test_motion_refuses_to_enter_inscribed_cost_but_may_leave_it():
     band = FakeCostmap(footprint=lambda x, y, t: 253 if x < -0.2 else 0)
     rig = Rig(World(local_costmap=band))
     status, _ = rig.run(rig.node("BackUp", backup_dist=0.5, backup_speed=0.15))
-    assert status == F and rig.get("backup_error_code") == BehaviorError.COLLISION_AHEAD
+    assert status == F and rig.get("backup_error_code") == BackUpError.COLLISION_AHEAD
     # already in inscribed cost (next to a wall): backing out through it is allowed
     tight = FakeCostmap(footprint=lambda x, y, t: 253 if x > -0.3 else 0)
     rig2 = Rig(World(local_costmap=tight))
@@ -349,7 +350,7 @@ def test_temporary_goal_prefers_gentle_arcs_and_drives_itself_when_the_controlle
     assert all(q.y >= -0.1 - 1e-9 for q in w.robot.trajectory)   # never into the wall's band
     refuse = Rig(World(controller=ScriptedController(fail_always=True)))
     status, _ = refuse.run(refuse.node("TemporaryGoal", escape_speed=0.0))
-    assert status == F and refuse.get("temporary_goal_error_code") == BehaviorError.COLLISION_AHEAD
+    assert status == F and refuse.get("temporary_goal_error_code") == RecoveryError.COLLISION_AHEAD
 
 
 def test_planner_and_controller_selectors():
@@ -401,7 +402,7 @@ def test_tight_spot_motion_is_judged_by_the_body_not_the_grid():
     assert status == S and rig.world.robot.pose().x == pytest.approx(-0.5, abs=0.01)
     # turning in place sweeps a corner through the wall: still refused
     status, _ = rig.run(rig.node("Spin", spin_dist=1.0))
-    assert status == F and rig.get("spin_error_code") == BehaviorError.COLLISION_AHEAD
+    assert status == F and rig.get("spin_error_code") == SpinError.COLLISION_AHEAD
     # a temporary goal: away from the wall on a gentle arc, the body never into the wall
     w = World(local_costmap=cm, controller=ScriptedController(fail_always=True))
     w.robot.teleport(Pose2D(0.0, -0.01, 0.0))

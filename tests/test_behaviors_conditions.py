@@ -10,7 +10,7 @@ from py_trees.common import Access, Status
 
 from behaviors.base import make
 from behaviors.conditions.is_goal_nearby import length_to_go, remaining_length
-from behaviors.error_codes import ControllerError, PlannerError
+from navcore.error_codes import ControllerError, PlannerError
 from behaviors.testing import FakeCostmap, FakeRobot, straight_path
 from hw.interfaces import BatteryState
 from navcore.clock import SimClock

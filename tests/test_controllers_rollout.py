@@ -14,6 +14,7 @@ from navcore.controllers.trajectory_rollout import footprint_cells, parse_y_vels
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.costmap.footprint import footprint_cost
 from navcore.params import ParameterError
+from navcore.params import ParameterError
 from navcore.types import Path, Pose2D, Twist
 from tests.test_controllers_support import RECT, drive, inflate, straight_path
 
@@ -177,16 +178,20 @@ def test_start_footprint_cells_are_its_inside():
     assert np.ptp(ys) > np.ptp(xs)                              # turned: long along y
 
 
-def test_never_raises_and_reports_why():
+def test_bad_input_gives_a_reason_and_a_bad_parameter_is_refused_when_set():
     cm = empty_map()
     tr = TrajectoryPlanner(cm, RECT, DIFF)
     assert tr.compute_velocity(Pose2D(), Twist()).status == "no_plan"
     r = tr.compute_velocity(Pose2D(), Twist(float("inf"), 0, 0), straight_path(0, 0, 1, 0))
     assert r.status == "no_valid_trajectory" and r.cmd.is_zero()
     holo = TrajectoryPlanner(cm, RECT)
-    holo.params.set({"y_vels": "a,b"})
+    # before, a bad y_vels was accepted and every cycle then said "no valid trajectory" (a
+    # blocked robot to the tree); now the change is refused and the old value stays
+    with pytest.raises(ParameterError, match="y_vels"):
+        holo.params.set({"y_vels": "a,b"})
+    assert holo.params.y_vels == "-0.3,-0.1,0.1,-0.3"
     r = holo.compute_velocity(Pose2D(), Twist(), straight_path(0, 0, 1, 0))
-    assert r.status == "no_valid_trajectory" and "y_vels" in r.reason
+    assert r.status in ("following", "rotating_to_goal")
 
 
 def _mean_path_deviation(params: dict) -> float:

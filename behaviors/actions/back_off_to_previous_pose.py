@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
-from behaviors.error_codes import BehaviorError
+from navcore.error_codes import RecoveryError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.types import Pose2D
 from behaviors.actions.record_pose_history import heading_to
@@ -76,17 +76,17 @@ class BackOffToPreviousPose(RecoveryAction):
         pose = self.robot.pose()
         if not self._trail:
             self.stop_motion()
-            self.report(BehaviorError.NO_POSE_HISTORY, "no trail to back off along")
+            self.report(RecoveryError.NO_POSE_HISTORY, "no trail to back off along")
             return FAILURE
         target = self._trail[-1]
         if pose.distance_to(target) <= self.get_input("xy_goal_tolerance"):
             self.stop_motion()
-            self.report(BehaviorError.NONE, "back at the previous pose")
+            self.report(RecoveryError.NONE, "back at the previous pose")
             return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance") \
                 or self.no_progress(pose):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, "time out or no progress")
+            self.report(RecoveryError.TIMEOUT, "time out or no progress")
             return FAILURE
         cmd, self._i, hit = self.pursue(pose, self._trail, self._i, target,
                                         self.get_input("speed"), self.get_input("lookahead"),
@@ -94,7 +94,7 @@ class BackOffToPreviousPose(RecoveryAction):
         if cmd is None:
             assert hit is not None
             self.stop_motion()
-            self.report(BehaviorError.COLLISION_AHEAD,
+            self.report(RecoveryError.COLLISION_AHEAD,
                         f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
             return FAILURE
         self.write("cmd_vel", cmd)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.base import PortInformation, Status
-from behaviors.error_codes import PlannerError, planner_code
+from navcore.error_codes import PlannerError
 from navcore.types import Path
 from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 
@@ -30,7 +30,7 @@ class ComputePathThroughPoses(PlanningAction):
         for i, goal in enumerate(goals):
             leg, reason = self.plan(planner, start, goal)
             if leg is None:
-                return self.fail(planner_code(reason), f"leg {i} failed: {reason}")
+                return self.fail(self.code(reason), f"leg {i} failed: {reason}")
             legs.append(leg.poses if i == 0 else leg.poses[1:])
             start = goal
         return self.succeed(Path(np.concatenate(legs, axis=0)))

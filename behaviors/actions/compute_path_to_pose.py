@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import PortInformation, Status
-from behaviors.error_codes import PlannerError, planner_code
+from navcore.error_codes import PlannerError
 from navcore.types import Pose2D
 from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 
@@ -29,6 +29,6 @@ class ComputePathToPose(PlanningAction):
             return self.fail(PlannerError.INVALID_GOAL, "no goal on the blackboard")
         path, reason = self.plan(planner, self.start(), goal)
         if path is None:
-            return self.fail(planner_code(reason), f"planning failed: {reason}")
+            return self.fail(self.code(reason), f"planning failed: {reason}")
         self.say(f"path of {len(path)} poses, {path.length():.2f} m")
         return self.succeed(path)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
-from behaviors.error_codes import BehaviorError
+from navcore.error_codes import BackUpError, DriveOnHeadingError
 from navcore.types import Pose2D, Twist
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
@@ -28,6 +28,7 @@ class DriveOnHeading(RecoveryAction):
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "drive_on_heading_error_code"}
+    ERRORS: type[DriveOnHeadingError] | type[BackUpError] = DriveOnHeadingError  # Nav2's numbers
 
     def distance_and_speed(self) -> tuple[float, float]:
         return self.get_input("dist_to_travel"), self.get_input("speed")
@@ -40,7 +41,7 @@ class DriveOnHeading(RecoveryAction):
         dist, speed = self.distance_and_speed()
         if dist * speed < 0.0 or speed == 0.0:
             self.stop_motion()
-            self.report(BehaviorError.INVALID_INPUT, f"distance {dist} and speed {speed} must be "
+            self.report(self.ERRORS.INVALID_INPUT, f"distance {dist} and speed {speed} must be "
                                                      f"non-zero with the same sign")
             return FAILURE
         pose = self.robot.pose()
@@ -48,11 +49,11 @@ class DriveOnHeading(RecoveryAction):
         remaining = abs(dist) - travelled
         if remaining <= 1e-3:
             self.stop_motion()
-            self.report(BehaviorError.NONE, f"drove {travelled:.2f} m")
+            self.report(self.ERRORS.NONE, f"drove {travelled:.2f} m")
             return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, f"time out after {travelled:.2f} m")
+            self.report(self.ERRORS.TIMEOUT, f"time out after {travelled:.2f} m")
             return FAILURE
         direction = 1.0 if dist > 0.0 else -1.0
         v = min(abs(speed), remaining / self.control_period)
@@ -64,7 +65,7 @@ class DriveOnHeading(RecoveryAction):
             hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
-                self.report(BehaviorError.COLLISION_AHEAD,
+                self.report(self.ERRORS.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
                 return FAILURE
         self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
@@ -84,6 +85,7 @@ class BackUp(DriveOnHeading):
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
     }
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "backup_error_code"}
+    ERRORS = BackUpError
 
     def distance_and_speed(self) -> tuple[float, float]:
         return -abs(self.get_input("backup_dist")), -abs(self.get_input("backup_speed"))

@@ -5,7 +5,9 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortInformation, Status
-from behaviors.error_codes import ControllerError
+from navcore.controllers.progress import ProgressChecker
+from navcore.controllers.result import ControlStatus
+from navcore.error_codes import CONTROL_CODES, ControllerError
 from navcore.path_ops import TrackingFeedback, tracking_feedback
 from navcore.types import Path, Pose2D, Twist
 
@@ -49,6 +51,7 @@ class FollowPath(Leaf):
         self.clock = self.component(kwargs, "clock")
         self.robot = self.component(kwargs, "robot")
         self.controllers = self.component(kwargs, "controllers")
+        self._progress = ProgressChecker()
 
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
              literals: dict[str, Any] | None = None) -> None:
@@ -63,7 +66,7 @@ class FollowPath(Leaf):
             self._controller.reset()
         now = self.clock.now()
         self._last_valid = now
-        self._progress_anchor, self._progress_since = self.robot.pose(), now
+        self._progress.reset(self.robot.pose(), now)
 
     def fail(self, code: ControllerError, msg: str) -> Status:
         self.write("cmd_vel", Twist.zero())
@@ -84,13 +87,14 @@ class FollowPath(Leaf):
             self._plan = path
         now, pose = self.clock.now(), self.robot.pose()
         result = self._controller.compute_velocity(pose, self.robot.velocity())
-        if result.status == "goal_reached" or self._controller.is_goal_reached():
+        if result.status == ControlStatus.GOAL_REACHED or self._controller.is_goal_reached():
             self.write("cmd_vel", Twist.zero())
             self.write("error_code_id", int(ControllerError.NONE))
             self.write("error_msg", "")
             self.say("goal reached")
             return SUCCESS
-        if result.status.startswith("no_valid"):
+        code = CONTROL_CODES.get(result.status)
+        if code is ControllerError.NO_VALID_CONTROL:
             tolerance = self.get_input("failure_tolerance")
             if tolerance >= 0.0 and now - self._last_valid >= tolerance:
                 code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
@@ -100,6 +104,8 @@ class FollowPath(Leaf):
             self.write("cmd_vel", Twist.zero())
             self.say(f"no valid command ({result.status}), trying again")
             return RUNNING
+        if code is not None:
+            return self.fail(code, f"controller: {result.status}")
         self._last_valid = now
         if self._feedback_wired:
             self.write("tracking_feedback", tracking_feedback(path, pose,
@@ -114,12 +120,8 @@ class FollowPath(Leaf):
 
     def _stalled(self, pose: Pose2D, now: float) -> bool:
         allowance = self.get_input("movement_time_allowance")
-        if allowance <= 0.0:
-            return False
-        if pose.distance_to(self._progress_anchor) >= self.get_input("required_movement_radius"):
-            self._progress_anchor, self._progress_since = pose, now
-            return False
-        return now - self._progress_since > allowance
+        return allowance > 0.0 and self._progress.stalled(  # 0: no progress check
+            pose, now, self.get_input("required_movement_radius"), allowance)
 
     def terminate(self, new_status: Status) -> None:
         if new_status is INVALID and self.status is RUNNING:

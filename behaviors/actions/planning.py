@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, PortInformation, Status
-from behaviors.error_codes import PlannerError
+from navcore.error_codes import PLAN_CODES, PlannerError
+from navcore.planners.result import PlanReason
 from navcore.types import Path, Pose2D
 
 
@@ -36,8 +37,14 @@ class PlanningAction(Leaf):
         """The planner's non-empty path, or None and the planner's reason."""
         result = planner.make_plan(start, goal)
         if not result.ok or result.path is None or len(result.path) == 0:
-            return None, result.reason or "no_path"
-        return result.path, ""
+            return None, result.reason or PlanReason.NO_PATH
+        return result.path, PlanReason.NONE
+
+    @staticmethod
+    def code(reason: str) -> PlannerError:
+        """The Nav2 code of a planner's reason (navcore.error_codes.PLAN_CODES); UNKNOWN for a
+        reason of a planner from elsewhere that the table does not know."""
+        return PLAN_CODES.get(reason, PlannerError.UNKNOWN)
 
     def succeed(self, path: Path) -> Status:
         self.write("path", path)

@@ -10,12 +10,13 @@ cost may move through it to get out). Every exit (finished or interrupted) leave
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable
+from enum import IntEnum
+from typing import Any, ClassVar, Iterable
 
 from behaviors.base import INVALID, RUNNING, Leaf, PortInformation, Recovery, Status
 from behaviors.clearance import clearances
-from behaviors.error_codes import BehaviorError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE, NO_INFORMATION
+from navcore.controllers.progress import ProgressChecker
 from navcore.types import Pose2D, Twist
 
 
@@ -49,6 +50,7 @@ class RecoveryAction(Recovery, Leaf):
         self.robot = self.component(kwargs, "robot", optional=not self.NEEDS_ROBOT)
         self.costmaps = {"local": kwargs.get("local_costmap"), "global": kwargs.get("global_costmap")}
         self.control_period = float(kwargs.get("control_period") or 0.05)
+        self._progress = ProgressChecker()
 
     def costmap_handles(self, which: str) -> list[Any]:
         names = ("local", "global") if which == "both" else (which,)
@@ -58,12 +60,12 @@ class RecoveryAction(Recovery, Leaf):
         """The costmap motion is checked on: the local one, else the global one."""
         return self.costmaps.get("local") or self.costmaps.get("global")
 
-    def report(self, code: BehaviorError, msg: str = "") -> None:
+    def report(self, code: IntEnum, msg: str = "") -> None:
         outputs = self.output_ports()
         if "error_code_id" in outputs:
             self.write("error_code_id", int(code))
         if "error_msg" in outputs:  # Nav2 Kilted+: the reason as text, "" on success
-            self.write("error_msg", "" if code == BehaviorError.NONE else msg)
+            self.write("error_msg", "" if code == 0 else msg)
         self.say(msg)
 
     def first_collision(self, poses: Iterable[Pose2D], start: Pose2D | None = None
@@ -125,18 +127,14 @@ class RecoveryAction(Recovery, Leaf):
         return Twist(v, 0.0, w), index, None
 
     def start_progress_check(self, pose: Pose2D) -> None:
-        self._anchor, self._anchor_t = pose, self.clock.now()
+        self._progress.reset(pose, self.clock.now())
 
     def no_progress(self, pose: Pose2D) -> bool:
         """True when the robot stayed within ``required_movement_radius`` for longer than
         ``movement_time_allowance`` seconds (0 disables); a stuck robot gives up early."""
         allowance = self.get_input("movement_time_allowance")
-        if allowance <= 0.0:
-            return False
-        if pose.distance_to(self._anchor) >= self.get_input("required_movement_radius"):
-            self.start_progress_check(pose)
-            return False
-        return self.clock.now() - self._anchor_t > allowance
+        return allowance > 0.0 and self._progress.stalled(
+            pose, self.clock.now(), self.get_input("required_movement_radius"), allowance)
 
     def stop_motion(self) -> None:
         if "cmd_vel" in self.output_ports():
@@ -147,7 +145,8 @@ class RecoveryAction(Recovery, Leaf):
             self.stop_motion()
 
 
-ERROR_CODE_OUT = {"error_code_id": PortInformation(int, False, "a BehaviorError; 0 on success"),
+ERROR_CODE_OUT = {"error_code_id": PortInformation(int, False, "the action's Nav2 error code "
+                                                              "(navcore.error_codes); 0 on success"),
                   "error_msg": PortInformation(str, False, "why it failed; empty on success")}
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
-from behaviors.error_codes import BehaviorError
+from navcore.error_codes import SpinError
 from navcore.types import Pose2D, Twist, angle_diff
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
@@ -50,11 +50,11 @@ class Spin(RecoveryAction):
         remaining = abs(target) - self._turned
         if remaining <= self.get_input("yaw_goal_tolerance"):
             self.stop_motion()
-            self.report(BehaviorError.NONE, f"turned {self._turned:.2f} rad")
+            self.report(SpinError.NONE, f"turned {self._turned:.2f} rad")
             return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, f"time out after {self._turned:.2f} of "
+            self.report(SpinError.TIMEOUT, f"time out after {self._turned:.2f} of "
                                                f"{abs(target):.2f} rad")
             return FAILURE
         acc = self.get_input("rotational_acc_lim")
@@ -70,7 +70,7 @@ class Spin(RecoveryAction):
             hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
-                self.report(BehaviorError.COLLISION_AHEAD,
+                self.report(SpinError.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
                 return FAILURE
         self._w = sign * w

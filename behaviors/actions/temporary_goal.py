@@ -9,7 +9,7 @@ import numpy as np
 
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.clearance import clearances
-from behaviors.error_codes import BehaviorError
+from navcore.error_codes import RecoveryError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.types import Pose2D, Twist, angle_diff
 from behaviors.actions.record_pose_history import heading_to
@@ -199,7 +199,7 @@ class TemporaryGoal(RecoveryAction):
         pose = self.robot.pose()
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, "time out")
+            self.report(RecoveryError.TIMEOUT, "time out")
             return FAILURE
         if self._goal is None:
             return self._search(pose)
@@ -226,12 +226,12 @@ class TemporaryGoal(RecoveryAction):
         planner = self.planners.get(self.get_input("planner_id"))
         controller = self.controllers.get(self.get_input("controller_id"))
         if planner is None or controller is None:
-            self.report(BehaviorError.INVALID_INPUT, "unknown planner or controller id")
+            self.report(RecoveryError.INVALID_INPUT, "unknown planner or controller id")
             return FAILURE
         for _ in range(self.get_input("max_plans_per_tick")):
             if not self._candidates:
                 self.stop_motion()
-                self.report(BehaviorError.NO_FREE_POSE, "no reachable free pose nearby")
+                self.report(RecoveryError.NO_FREE_POSE, "no reachable free pose nearby")
                 return FAILURE
             cand = self._candidates.pop(0)
             result = planner.make_plan(pose, cand)
@@ -253,11 +253,11 @@ class TemporaryGoal(RecoveryAction):
                        or self._controller.is_goal_reached())
         if reached:
             self.stop_motion()
-            self.report(BehaviorError.NONE, "reached the temporary goal")
+            self.report(RecoveryError.NONE, "reached the temporary goal")
             return SUCCESS
         if self.no_progress(pose):
             self.stop_motion()
-            self.report(BehaviorError.TIMEOUT, "no progress toward the temporary goal")
+            self.report(RecoveryError.TIMEOUT, "no progress toward the temporary goal")
             return FAILURE
         if result is not None and not result.status.startswith("no_valid"):
             cmd = result.cmd
@@ -283,7 +283,7 @@ class TemporaryGoal(RecoveryAction):
                 self.stop_motion()
                 why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
                 status = result.status if result is not None else "one arc"
-                self.report(BehaviorError.COLLISION_AHEAD, f"controller: {status}; {why}")
+                self.report(RecoveryError.COLLISION_AHEAD, f"controller: {status}; {why}")
                 return FAILURE
             self._own, cmd = True, own
         self.write("cmd_vel", cmd)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from behaviors.base import RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.actions.recovery_action import ERROR_CODE_OUT, RecoveryAction
-from behaviors.error_codes import BehaviorError
+from navcore.error_codes import WaitError
 
 
 class Wait(RecoveryAction):
@@ -21,7 +21,7 @@ class Wait(RecoveryAction):
     def update(self) -> Status:
         left = self._until - self.clock.now()
         if left <= 1e-9:
-            self.report(BehaviorError.NONE, "waited")
+            self.report(WaitError.NONE, "waited")
             return SUCCESS
         self.say("{:.1f} s left", left)
         return RUNNING

@@ -28,20 +28,3 @@ class Condition(Leaf):
         if self.robot is None:
             raise RuntimeError(f"{type(self).__name__} '{self.name}': setup() got no 'robot'")
         return self.robot.pose()
-
-
-class ProgressWindow:
-    """Has the robot moved ``radius`` metres within the last ``window`` seconds?"""
-
-    def __init__(self) -> None:
-        self.anchor: Pose2D | None = None
-        self.since = 0.0
-
-    def reset(self, pose: Pose2D, now: float) -> None:
-        self.anchor, self.since = pose, now
-
-    def stalled(self, pose: Pose2D, now: float, radius: float, window: float) -> bool:
-        if self.anchor is None or pose.distance_to(self.anchor) >= radius:
-            self.reset(pose, now)
-            return False
-        return now - self.since > window

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, PortInformation, Status
-from behaviors.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
+from navcore.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
 from behaviors.conditions.condition import Condition, yes
 
 

@@ -7,7 +7,8 @@ from typing import Any
 
 from behaviors.base import FAILURE, Port, PortInformation, Status
 from navcore.types import Pose2D
-from behaviors.conditions.condition import Condition, ProgressWindow, yes
+from behaviors.conditions.condition import Condition, yes
+from navcore.controllers.progress import ProgressChecker
 
 
 class IsOscillating(Condition):
@@ -28,7 +29,7 @@ class IsOscillating(Condition):
 
     def setup(self, **kwargs: Any) -> None:
         super().setup(**kwargs)
-        self._window = ProgressWindow()
+        self._window = ProgressChecker()
         self._last_tick = -math.inf
         self._goal: Pose2D | None = None
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 from behaviors.base import INVALID, Port, PortInformation, Status
-from behaviors.conditions.condition import Condition, ProgressWindow, yes
+from behaviors.conditions.condition import Condition, yes
+from navcore.controllers.progress import ProgressChecker
 
 
 class IsStuck(Condition):
@@ -20,7 +21,7 @@ class IsStuck(Condition):
     def update(self) -> Status:
         now, pose = self.clock.now(), self.pose()
         if self.status is INVALID:
-            self._window = ProgressWindow()
+            self._window = ProgressChecker()
             self._window.reset(pose, now)
         stuck = self._window.stalled(pose, now, self.get_input("required_movement_radius"),
                                      self.get_input("movement_time_allowance"))

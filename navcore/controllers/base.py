@@ -15,7 +15,7 @@ from navcore.params import Parameters
 from navcore.types import Path, Pose2D, Twist
 
 from navcore.controllers.map_grid import local_plan, prune_plan
-from navcore.controllers.result import NO_PLAN, NO_VALID_TRAJECTORY, ControlResult
+from navcore.controllers.result import ControlResult, ControlStatus
 
 
 class LocalPlannerBase:
@@ -88,22 +88,23 @@ class LocalPlannerBase:
         a non-finite pose, velocity or path gives a zero command and the reason). An exception
         is a bug and leaves the call (the executive ends the mission with INTERNAL_ERROR)."""
         if not all(math.isfinite(v) for v in (pose.x, pose.y, pose.theta)):
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: pose is not finite: {pose}")
         if not all(math.isfinite(v) for v in (velocity.vx, velocity.vy, velocity.wz)):
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: velocity is not finite: {velocity}")
         if path is not None:
             poses = np.asarray(path.poses, dtype=np.float64).reshape(-1, 3)
             if not np.all(np.isfinite(poses)):
-                return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+                return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                      reason=f"{self.NAME}: the path has non-finite poses")
             if self._given is None or poses.shape != self._given.shape \
                     or not np.array_equal(poses, self._given):
                 self.set_plan(path)
         self._last_pose, self._last_vel = pose, velocity
         if len(self._plan) == 0:
-            return ControlResult(Twist.zero(), NO_PLAN, reason=f"{self.NAME}: no plan")
+            return ControlResult(Twist.zero(), ControlStatus.NO_PLAN,
+                                 reason=f"{self.NAME}: no plan")
         self._cycle_params = SimpleNamespace(**self.params.as_dict())
         try:
             return self._compute(pose, velocity)

@@ -24,8 +24,7 @@ from navcore.controllers.base import LocalPlannerBase
 from navcore.controllers.critics import score_dwa
 from navcore.controllers.map_grid import densify_plan, distance_grid, plan_cells
 from navcore.controllers.oscillation import OscillationFlags
-from navcore.controllers.result import (FOLLOWING, GOAL_REACHED, NO_VALID_TRAJECTORY,
-                                        ROTATING_TO_GOAL, ControlResult, describe_rejections)
+from navcore.controllers.result import ControlResult, ControlStatus, describe_rejections
 from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, sample_grid,
                                          simulate)
 
@@ -148,7 +147,7 @@ class DWAPlanner(LocalPlannerBase):
         p = self._p()
         local = self._local_plan(pose, p.prune_plan)
         if len(local) == 0:
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: no pose of the plan lies within the local "
                                         "costmap around the robot")
         ctx = self._prepare(pose, local)
@@ -275,13 +274,15 @@ class DWAPlanner(LocalPlannerBase):
         pts, steps, cmds, scores, state, best = self._score(pose, velocity, samples, ctx,
                                                              self.exhaustive)
         if best < 0:
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY, None, pts, scores, cmds,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
+                                 None, pts, scores, cmds,
                                  reason=f"{self.NAME}: every trajectory was discarded ("
                                         f"{describe_rejections(scores)})")
         vx, vy, vth = (float(v) for v in cmds[best])
         self.oscillation.update(pose.x, pose.y, pose.theta, vx, vy, vth, p.min_vel_trans,
                                 p.oscillation_reset_dist, p.oscillation_reset_angle)
-        return ControlResult(Twist(vx, vy, vth), FOLLOWING, pts[best, :steps[best]].copy(), pts,
+        return ControlResult(Twist(vx, vy, vth), ControlStatus.FOLLOWING,
+                             pts[best, :steps[best]].copy(), pts,
                              scores, cmds, reason=f"{self.NAME}: cost {scores[best]:.4f}")
 
     def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: dict[str, Any]) -> bool:
@@ -304,8 +305,9 @@ class DWAPlanner(LocalPlannerBase):
         if gc.yaw_reached(pose, goal, p.yaw_goal_tolerance):
             self._rotating_to_goal = False
             if gc.stopped(velocity, p.theta_stopped_vel, p.trans_stopped_vel):
-                return ControlResult(Twist.zero(), GOAL_REACHED, reason=f"{self.NAME}: goal reached")
-            return ControlResult(Twist.zero(), ROTATING_TO_GOAL,
+                return ControlResult(Twist.zero(), ControlStatus.GOAL_REACHED,
+                                     reason=f"{self.NAME}: goal reached")
+            return ControlResult(Twist.zero(), ControlStatus.ROTATING_TO_GOAL,
                                  reason=f"{self.NAME}: at the goal pose, waiting to stop")
         acc = (p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta)
         period = 1.0 / p.controller_frequency
@@ -320,6 +322,6 @@ class DWAPlanner(LocalPlannerBase):
             cmd = Twist(0.0, 0.0, wz)
             what = "rotating to the goal yaw"
         if not self._legal(pose, velocity, cmd, ctx):
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: {what} would collide")
-        return ControlResult(cmd, ROTATING_TO_GOAL, reason=f"{self.NAME}: {what}")
+        return ControlResult(cmd, ControlStatus.ROTATING_TO_GOAL, reason=f"{self.NAME}: {what}")

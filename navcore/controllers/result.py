@@ -3,17 +3,23 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 
 import numpy as np
 
 from navcore.types import Twist
 
-FOLLOWING = "following"
-GOAL_REACHED = "goal_reached"
-ROTATING_TO_GOAL = "rotating_to_goal"
-NO_VALID_TRAJECTORY = "no_valid_trajectory"
-NO_PLAN = "no_plan"
-STATUSES = (FOLLOWING, GOAL_REACHED, ROTATING_TO_GOAL, NO_VALID_TRAJECTORY, NO_PLAN)
+
+class ControlStatus(StrEnum):
+    """What one control cycle achieved; compares equal to its text. The failures map to Nav2
+    FollowPath codes in ``navcore.error_codes.CONTROL_CODES``."""
+
+    FOLLOWING = "following"
+    ROTATING_TO_GOAL = "rotating_to_goal"
+    GOAL_REACHED = "goal_reached"
+    NO_VALID_TRAJECTORY = "no_valid_trajectory"  # every sample rejected, or a bad input
+    NO_PLAN = "no_plan"
+
 
 
 @dataclass
@@ -30,7 +36,7 @@ class ControlResult:
     """
 
     cmd: Twist
-    status: str
+    status: ControlStatus
     best: np.ndarray | None = None
     trajectories: np.ndarray | None = None
     scores: np.ndarray | None = None
@@ -40,7 +46,10 @@ class ControlResult:
     @property
     def ok(self) -> bool:
         """True when the command moves the robot on purpose or the goal is reached."""
-        return self.status in (FOLLOWING, GOAL_REACHED, ROTATING_TO_GOAL)
+        return self.status in _OK
+
+
+_OK = (ControlStatus.FOLLOWING, ControlStatus.GOAL_REACHED, ControlStatus.ROTATING_TO_GOAL)
 
 
 def describe_rejections(scores: np.ndarray) -> str:

@@ -28,8 +28,7 @@ from navcore.types import Pose2D, Twist
 from navcore.controllers import goal_checks as gc
 from navcore.controllers.base import LocalPlannerBase
 from navcore.controllers.map_grid import densify_plan, distance_grid, plan_cells
-from navcore.controllers.result import (FOLLOWING, GOAL_REACHED, NO_VALID_TRAJECTORY,
-                                        ROTATING_TO_GOAL, ControlResult, describe_rejections)
+from navcore.controllers.result import ControlResult, ControlStatus, describe_rejections
 from navcore.controllers.rollout import RAMPED_FROM_CURRENT, simulate
 
 TR_PARAMS = (
@@ -282,6 +281,9 @@ class TrajectoryPlanner(LocalPlannerBase):
         super().__init__(costmap, footprint)
         self.params = Parameters(TR_PARAMS, params, where=self.NAME, ignore=IGNORED)
         parse_y_vels(self.params.y_vels)
+        # a bad y_vels is refused where it is set (SetParameters reports it), not found later
+        self.params.before_change(lambda new: parse_y_vels(new["y_vels"]) if "y_vels" in new
+                                  else None)
         self.exhaustive = False
         self.reset()
 
@@ -321,7 +323,7 @@ class TrajectoryPlanner(LocalPlannerBase):
         p = self._p()
         local = self._local_plan(pose, p.prune_plan)
         if len(local) == 0:
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: no pose of the plan lies within the local "
                                         "costmap around the robot")
         costs = self._costs()
@@ -532,12 +534,14 @@ class TrajectoryPlanner(LocalPlannerBase):
     def _follow(self, pose: Pose2D, velocity: Twist, ctx: dict[str, Any]) -> ControlResult:
         best, cost, samples, pts, steps, scores = self.find_best(pose, velocity, ctx)
         if cost < 0:
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY, None, pts, scores, samples,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
+                                 None, pts, scores, samples,
                                  reason=f"{self.NAME}: every trajectory was illegal ("
                                         f"{describe_rejections(scores)})")
         vx, vy, vth = (float(v) for v in samples[best])
         what = "escaping backward" if self._escaping else f"cost {cost:.4f}"
-        return ControlResult(Twist(vx, vy, vth), FOLLOWING, pts[best, :steps[best]].copy(), pts,
+        return ControlResult(Twist(vx, vy, vth), ControlStatus.FOLLOWING,
+                             pts[best, :steps[best]].copy(), pts,
                              scores, samples, reason=f"{self.NAME}: {what}")
 
     def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: dict[str, Any]) -> bool:
@@ -552,7 +556,8 @@ class TrajectoryPlanner(LocalPlannerBase):
             self._rotating_to_goal = False
             self._xy_latch = False
             self._reached = True
-            return ControlResult(Twist.zero(), GOAL_REACHED, reason=f"{self.NAME}: goal reached")
+            return ControlResult(Twist.zero(), ControlStatus.GOAL_REACHED,
+                                 reason=f"{self.NAME}: goal reached")
         self.find_best(pose, velocity, ctx)  # ROS runs it here for its side effects on latches
         period = 1.0 / p.controller_frequency
         if not self._rotating_to_goal and not gc.stopped(velocity, p.rot_stopped_vel,
@@ -569,6 +574,6 @@ class TrajectoryPlanner(LocalPlannerBase):
             cmd = Twist(0.0, 0.0, wz)
             what = "rotating to the goal yaw"
         if not self._legal(pose, velocity, cmd, ctx):
-            return ControlResult(Twist.zero(), NO_VALID_TRAJECTORY,
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
                                  reason=f"{self.NAME}: {what} would collide")
-        return ControlResult(cmd, ROTATING_TO_GOAL, reason=f"{self.NAME}: {what}")
+        return ControlResult(cmd, ControlStatus.ROTATING_TO_GOAL, reason=f"{self.NAME}: {what}")

@@ -1,7 +1,7 @@
 """Global planners with ROS semantics: navfn, global_planner and carrot_planner.
 
 Each has ``.params`` (ROS names and effective defaults) and ``make_plan(start, goal) ->
-PlanResult`` that returns a reason instead of raising. ``make_planner`` builds one from the ROS
+PlanResult`` (a path or the ``PlanReason`` there is none). ``make_planner`` builds one from the ROS
 ``base_global_planner`` string.
 """
 
@@ -14,9 +14,9 @@ from navcore.params import suggest
 from navcore.planners.carrot_planner import CarrotPlanner, costmap_footprint_cost
 from navcore.planners.global_planner import GlobalPlanner
 from navcore.planners.navfn import NavFn
-from navcore.planners.result import REASONS, PlanResult
+from navcore.planners.result import PlanReason, PlanResult
 
-__all__ = ["CarrotPlanner", "GlobalPlanner", "NavFn", "PlanResult", "REASONS", "PLANNER_KINDS",
+__all__ = ["CarrotPlanner", "GlobalPlanner", "NavFn", "PlanResult", "PlanReason", "PLANNER_KINDS",
            "costmap_footprint_cost", "make_planner"]
 
 PLANNER_KINDS = ("navfn/NavfnROS", "global_planner/GlobalPlanner", "carrot_planner/CarrotPlanner")

@@ -20,7 +20,7 @@ from navcore.costmap.costmap2d import Costmap2D
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.params import Param, Parameters
 from navcore.planners.common import finite_pose
-from navcore.planners.result import PlanResult
+from navcore.planners.result import PlanReason, PlanResult
 from navcore.types import Path, Pose2D, angle_diff, normalize_angle
 
 FootprintCost = Callable[[float, float, float], int]
@@ -76,12 +76,12 @@ class CarrotPlanner:
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):
-            return PlanResult.failure("invalid_pose")
+            return PlanResult.failure(PlanReason.INVALID_POSE)
         cm = self.costmap
         if cm.world_to_map(start.x, start.y) is None:
-            return PlanResult.failure("start_outside_map")
+            return PlanResult.failure(PlanReason.START_OUTSIDE_MAP)
         if cm.world_to_map(goal.x, goal.y) is None:
-            return PlanResult.failure("goal_outside_map")
+            return PlanResult.failure(PlanReason.GOAL_OUTSIDE_MAP)
         dist = start.distance_to(goal)
         dyaw = angle_diff(goal.theta, start.theta)
         step = self.params.step_size
@@ -98,8 +98,8 @@ class CarrotPlanner:
             th = normalize_angle(start.theta + s * dyaw)
             if self.acceptable(x, y, th):
                 poses = np.array([[start.x, start.y, start.theta], [x, y, th]])
-                return PlanResult(True, Path(poses), "")
+                return PlanResult(True, Path(poses), PlanReason.NONE)
             k += 1
             if not math.isfinite(back):
                 break
-        return PlanResult.failure("goal_occupied")
+        return PlanResult.failure(PlanReason.GOAL_OCCUPIED)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from navcore.costmap.costmap2d import Costmap2D
+from navcore.planners.result import PlanReason
 from navcore.planners.wavefront import POT_HIGH
 from navcore.types import Pose2D
 
@@ -50,12 +51,13 @@ def search_tolerance(costmap: Costmap2D, pot: np.ndarray, goal: Pose2D, toleranc
     return float(gx.flat[k]), float(gy.flat[k])
 
 
-def diagnose(passable: np.ndarray, goal_cell: tuple[int, int] | None, updates: int) -> str:
+def diagnose(passable: np.ndarray, goal_cell: tuple[int, int] | None,
+             updates: int) -> PlanReason:
     """Why no plan: the goal cell impassable (the map's outer border counts: the planners never
     enter it), the wave never left the start, or no connection."""
     if goal_cell is not None:
         gx, gy = goal_cell
         ny, nx = passable.shape
         if not passable[gy, gx] or gx in (0, nx - 1) or gy in (0, ny - 1):
-            return "goal_occupied"
-    return "no_path" if updates > 0 else "start_occupied"
+            return PlanReason.GOAL_OCCUPIED
+    return PlanReason.NO_PATH if updates > 0 else PlanReason.START_OCCUPIED

@@ -33,7 +33,7 @@ from navcore.costmap.cost_values import NO_INFORMATION
 from navcore.params import Param, Parameters
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.orientation import apply_orientation
-from navcore.planners.result import PlanResult
+from navcore.planners.result import PlanReason, PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
 from navcore.planners.wavefront import (BAND_NEUTRALS, HEURISTIC_EUCLIDEAN,
                                         HEURISTIC_MANHATTAN, HEURISTIC_NONE, POT_HIGH, Workspace,
@@ -144,14 +144,14 @@ class GlobalPlanner:
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):
-            return PlanResult.failure("invalid_pose")
+            return PlanResult.failure(PlanReason.INVALID_POSE)
         cm, p = self.costmap, self.params
         s = self._to_map(start)
         if s is None:
-            return PlanResult.failure("start_outside_map")
+            return PlanResult.failure(PlanReason.START_OUTSIDE_MAP)
         g = self._to_map(goal)
         if g is None:
-            return PlanResult.failure("goal_outside_map")
+            return PlanResult.failure(PlanReason.GOAL_OUTSIDE_MAP)
         gc = cm.world_to_map(goal.x, goal.y)
         nx, ny = cm.size_x, cm.size_y
         ws = self._ws
@@ -212,7 +212,7 @@ class GlobalPlanner:
             ok, xy = gradient_path(ws.pot, nx, ny, g[0], g[1], STOP_NEAR_POINT, sx, sy,
                                    4 * nx * ny, float(lethal))
         if not ok or len(xy) == 0:
-            return PlanResult.failure("no_path", potential)
+            return PlanResult.failure(PlanReason.NO_PATH, potential)
         off = 0.0 if p.old_navfn_behavior else 0.5
         pts = xy[::-1]
         if not p.old_navfn_behavior:
@@ -224,7 +224,7 @@ class GlobalPlanner:
         poses[:-1, 1] = cm.origin_y + (pts[:, 1] + off) * cm.resolution
         poses[-1] = (goal_pose.x, goal_pose.y, goal_pose.theta)
         apply_orientation(poses, start, p.orientation_mode, p.orientation_window_size)
-        return PlanResult(True, Path(poses), "", potential)
+        return PlanResult(True, Path(poses), PlanReason.NONE, potential)
 
     def _clear_endpoint(self, costs: np.ndarray, pot: np.ndarray, gc: tuple[int, int], nx: int,
                         ny: int) -> None:

@@ -21,7 +21,7 @@ import numpy as np
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.params import Param, Parameters
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
-from navcore.planners.result import PlanResult
+from navcore.planners.result import PlanReason, PlanResult
 from navcore.planners.traceback import STOP_NEAR_NEUTRAL, gradient_path
 from navcore.planners.wavefront import (BAND_NEUTRALS, POT_HIGH, Workspace, kernel_tables,
                                         run_wavefront)
@@ -80,16 +80,16 @@ class NavFn:
 
     def _make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         if not (finite_pose(start) and finite_pose(goal)):
-            return PlanResult.failure("invalid_pose")
+            return PlanResult.failure(PlanReason.INVALID_POSE)
         cm = self.costmap
         p = self.params
         sc = cm.world_to_map(start.x, start.y)
         if sc is None:
-            return PlanResult.failure("start_outside_map")
+            return PlanResult.failure(PlanReason.START_OUTSIDE_MAP)
         gc = cm.world_to_map(goal.x, goal.y)
         tol = p.default_tolerance
         if gc is None and tol <= 0.0:
-            return PlanResult.failure("goal_outside_map")
+            return PlanResult.failure(PlanReason.GOAL_OUTSIDE_MAP)
         nx, ny = cm.size_x, cm.size_y
         ws = self._ws
         ws.ensure(nx, ny)
@@ -114,12 +114,12 @@ class NavFn:
                                float(sc[0]), float(sc[1]), max(4 * nx, nx * ny // 2),
                                float(COST_OBS))
         if not ok or len(xy) == 0:
-            return PlanResult.failure("no_path", potential)
+            return PlanResult.failure(PlanReason.NO_PATH, potential)
         poses = np.zeros((len(xy) + 1, 3))
         poses[:-1, 0] = cm.origin_x + xy[::-1, 0] * cm.resolution
         poses[:-1, 1] = cm.origin_y + xy[::-1, 1] * cm.resolution
         poses[-1] = (best[0], best[1], goal.theta)
-        return PlanResult(True, Path(poses), "", potential)
+        return PlanResult(True, Path(poses), PlanReason.NONE, potential)
 
     def potential_at(self, x: float, y: float) -> float:
         """The last plan's potential at a world point (navfn ``getPointPotential``); inf off-map."""

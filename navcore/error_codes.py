@@ -1,0 +1,125 @@
+"""Error codes of the navigation actions, so that recoveries are chosen by cause, and the one
+table from the planners' and controllers' results to them.
+
+Values follow Nav2's action definitions (nav2_msgs/action: ComputePathToPose 2xx, FollowPath 1xx,
+Spin 70x, BackUp 71x, DriveOnHeading 72x, Wait 74x), so a Nav2 user's ``error_codes_to_check``
+lists mean the same here; 0 is success. navbt's own recoveries (TemporaryGoal,
+BackOffToPreviousPose) use 80x. A bug is none of these: it raises, and the
+executive ends the mission with INTERNAL_ERROR (no recovery branch ever sees it).
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+from navcore.controllers.result import ControlStatus
+from navcore.planners.result import PlanReason
+
+
+class PlannerError(IntEnum):
+    """ComputePathToPose / ComputePathThroughPoses (nav2_msgs/action/ComputePathToPose)."""
+
+    NONE = 0
+    UNKNOWN = 200
+    INVALID_PLANNER = 201
+    TF_ERROR = 202
+    START_OUTSIDE_MAP = 203
+    GOAL_OUTSIDE_MAP = 204
+    START_OCCUPIED = 205
+    GOAL_OCCUPIED = 206
+    TIMEOUT = 207
+    NO_VALID_PATH = 208
+    NO_VIAPOINTS_GIVEN = 209
+    INVALID_GOAL = 210
+
+
+class ControllerError(IntEnum):
+    """FollowPath (nav2_msgs/action/FollowPath)."""
+
+    NONE = 0
+    UNKNOWN = 100
+    INVALID_CONTROLLER = 101
+    TF_ERROR = 102
+    INVALID_PATH = 103
+    PATIENCE_EXCEEDED = 104
+    FAILED_TO_MAKE_PROGRESS = 105
+    NO_VALID_CONTROL = 106
+    CONTROLLER_TIMED_OUT = 107
+
+
+class SpinError(IntEnum):
+    """Spin (nav2_msgs/action/Spin)."""
+
+    NONE = 0
+    UNKNOWN = 700
+    TIMEOUT = 701
+    TF_ERROR = 702
+    COLLISION_AHEAD = 703
+
+
+class BackUpError(IntEnum):
+    """BackUp (nav2_msgs/action/BackUp)."""
+
+    NONE = 0
+    UNKNOWN = 710
+    TIMEOUT = 711
+    TF_ERROR = 712
+    INVALID_INPUT = 713
+    COLLISION_AHEAD = 714
+
+
+class DriveOnHeadingError(IntEnum):
+    """DriveOnHeading (nav2_msgs/action/DriveOnHeading)."""
+
+    NONE = 0
+    UNKNOWN = 720
+    TIMEOUT = 721
+    TF_ERROR = 722
+    COLLISION_AHEAD = 723
+    INVALID_INPUT = 724
+
+
+class WaitError(IntEnum):
+    """Wait (nav2_msgs/action/Wait)."""
+
+    NONE = 0
+    UNKNOWN = 740
+    TIMEOUT = 741
+
+
+class RecoveryError(IntEnum):
+    """navbt's own recoveries: TemporaryGoal, BackOffToPreviousPose."""
+
+    NONE = 0
+    UNKNOWN = 800
+    TIMEOUT = 801
+    COLLISION_AHEAD = 803
+    INVALID_INPUT = 804
+    NO_FREE_POSE = 810        # TemporaryGoal: nothing reachable and free nearby
+    NO_POSE_HISTORY = 811     # BackOffToPreviousPose: the robot has not moved yet
+
+
+# The one table: a planner's reason -> the code ComputePathToPose writes.
+PLAN_CODES: dict[PlanReason, PlannerError] = {
+    PlanReason.NONE: PlannerError.NONE,
+    PlanReason.INVALID_POSE: PlannerError.UNKNOWN,  # a non-finite start (localisation) or goal
+    PlanReason.START_OUTSIDE_MAP: PlannerError.START_OUTSIDE_MAP,
+    PlanReason.GOAL_OUTSIDE_MAP: PlannerError.GOAL_OUTSIDE_MAP,
+    PlanReason.START_OCCUPIED: PlannerError.START_OCCUPIED,
+    PlanReason.GOAL_OCCUPIED: PlannerError.GOAL_OCCUPIED,
+    PlanReason.NO_PATH: PlannerError.NO_VALID_PATH,
+}
+
+# ... and a controller's failing status -> the code FollowPath writes (NO_VALID_CONTROL becomes
+# PATIENCE_EXCEEDED once FollowPath's failure_tolerance has run out).
+CONTROL_CODES: dict[ControlStatus, ControllerError] = {
+    ControlStatus.NO_VALID_TRAJECTORY: ControllerError.NO_VALID_CONTROL,
+    ControlStatus.NO_PLAN: ControllerError.INVALID_PATH,
+}
+
+# Nav2's default lists for WouldA...RecoveryHelp.
+PLANNER_RECOVERABLE = [int(PlannerError.UNKNOWN), int(PlannerError.NO_VALID_PATH),
+                       int(PlannerError.TIMEOUT)]
+CONTROLLER_RECOVERABLE = [int(ControllerError.UNKNOWN), int(ControllerError.PATIENCE_EXCEEDED),
+                          int(ControllerError.FAILED_TO_MAKE_PROGRESS),
+                          int(ControllerError.NO_VALID_CONTROL)]
