@@ -19,7 +19,8 @@ import re
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, MutableMapping
 
-from behaviors.error_codes import BehaviorError, ControllerError, PlannerError
+from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError, PlannerError,
+                                 RecoveryError, SpinError, WaitError)
 
 
 class ScriptError(ValueError):
@@ -30,7 +31,8 @@ def _unambiguous_enums() -> dict[str, int]:
     """Names of Nav2's error codes usable in scripts: those that mean one value only (UNKNOWN,
     TIMEOUT ... exist in several enums and are left out)."""
     seen: dict[str, set[int]] = {}
-    for enum in (PlannerError, ControllerError, BehaviorError):
+    for enum in (PlannerError, ControllerError, SpinError, BackUpError, DriveOnHeadingError,
+                 WaitError, RecoveryError):
         for member in enum:
             seen.setdefault(member.name, set()).add(int(member))
     return {name: next(iter(v)) for name, v in seen.items() if len(v) == 1}
