@@ -87,7 +87,8 @@ def _tree(tree: LoadedTree | str | os.PathLike) -> LoadedTree:
 def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | None = None,
                  grid: OccupancyGrid | str | os.PathLike | None = None,
                  start: Pose2D | None = None, *, io: RobotIO | None = None,
-                 realtime: bool = False, seed: int = 0, world: World | None = None,
+                 clock: Clock | None = None, realtime: bool = False, seed: int = 0,
+                 world: World | None = None,
                  hardware: bool | str = False, localise: bool | None = None,
                  recorder: Recorder | None = None,
                  meta: dict[str, Any] | None = None) -> Navigator:
@@ -101,6 +102,8 @@ def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | Non
     device emulators. ``start``: where the simulated robot starts and AMCL's first guess
     (default on the simulator: the map's most open spot). ``realtime``: run on the wall clock
     (a real robot needs it); otherwise simulated time runs as fast as the computer allows.
+    ``clock``: with ``io``, the mission's clock when your robot needs it too (a simulator of
+    your own stamping its messages); default a new one as ``realtime`` says.
     ``localise``: with ``io``, run AMCL (needs a laser) rather than trust ``io.true_pose``;
     by default only when the config has an ``amcl`` namespace or there is no ground truth.
     ``recorder``: where tick records go (``executive.run_folder.open_recorder(folder)`` writes
@@ -111,6 +114,9 @@ def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | Non
     config = config if config is not None else load_config()
     occupancy = _grid(grid)
     if io is None:
+        if clock is not None:
+            raise WiringError("open_mission: 'clock' goes with your own robot I/O; the config's "
+                              "robot gets the clock 'realtime' asks for")
         if localise is not None:
             raise WiringError("open_mission: 'localise' applies to your own robot I/O; the "
                               "config's robot localises with AMCL when it has an 'amcl' "
@@ -125,7 +131,8 @@ def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | Non
         raise WiringError("open_mission: 'world' and 'hardware' describe the config's robot; "
                           "with your own robot I/O leave them out")
     loaded = _tree(tree)
-    clock: Clock = WallClock() if realtime else SimClock()
+    if clock is None:
+        clock = WallClock() if realtime else SimClock()
     if localise is None:
         localise = "amcl" in config.namespaces or io.true_pose() is None
     if localise and io.laser is None:
