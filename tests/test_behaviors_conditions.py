@@ -9,7 +9,6 @@ from py_trees.blackboard import Client
 from py_trees.common import Access, Status
 
 from behaviors.base import make
-from behaviors.conditions.is_goal_nearby import length_to_go, remaining_length
 from navcore.error_codes import ControllerError, PlannerError
 from behaviors.testing import FakeCostmap, FakeRobot, straight_path
 from hw.interfaces import BatteryState
@@ -158,39 +157,6 @@ def test_is_goal_nearby_uses_remaining_path_length():
     assert tick(node) == F
     env.robot.teleport(Pose2D(2.2, 0.1, 0.0))
     assert tick(node) == S
-
-
-def test_remaining_length_matches_numpy_argmin_on_random_paths():
-    """The kernel picks the same pose as np.argmin (first of ties) and gives the same sum."""
-    rng = np.random.default_rng(7)
-    for k in range(400):
-        n = int(rng.integers(1, 40))
-        poses = rng.normal(0.0, 3.0, (n, 3))
-        if k % 3 == 0:
-            poses[:, :2] = np.round(poses[:, :2])          # ties between poses
-        if k % 5 == 0:
-            poses = np.asfortranarray(poses)               # any memory layout
-        path = Path(poses)
-        pose = Pose2D(*rng.normal(0.0, 3.0, 3))
-        d = np.hypot(path.poses[:, 0] - pose.x, path.poses[:, 1] - pose.y)
-        i = int(np.argmin(d))
-        to_go = length_to_go(path.poses)
-        assert remaining_length(path, pose) == float(d[i] + to_go[i])
-    assert remaining_length(Path(np.zeros((0, 3))), Pose2D()) == 0.0
-    line = Path(np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]]))
-    assert remaining_length(line, Pose2D(1.2, 0.5, 0.0)) == np.hypot(0.2, 0.5) + 2.0
-
-
-def test_length_to_go_matches_the_reversed_cumulative_sum():
-    rng = np.random.default_rng(8)
-    for k in range(300):
-        poses = rng.normal(0.0, 5.0, (int(rng.integers(0, 120)), 3))
-        if k % 4 == 0:
-            poses = np.asfortranarray(poses)
-        steps = np.hypot(np.diff(poses[:, 0]), np.diff(poses[:, 1]))
-        want = (np.concatenate([np.cumsum(steps[::-1])[::-1], [0.0]]) if len(steps)
-                else np.zeros(1))
-        np.testing.assert_array_equal(length_to_go(poses), want)
 
 
 def test_would_a_recovery_help_reads_error_codes():

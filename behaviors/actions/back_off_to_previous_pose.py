@@ -5,8 +5,8 @@ from __future__ import annotations
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from navcore.motion.geometry import heading_to
 from navcore.types import Pose2D
-from behaviors.actions.record_pose_history import heading_to
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from behaviors.base import SUCCESS, Leaf, Port, PortInformation, Status
@@ -44,13 +43,3 @@ class RecordPoseHistory(Leaf):
             trail.pop(0)
         self.write("pose_history", list(self._trail))
         return SUCCESS
-
-
-def trail_length(poses: list[Pose2D]) -> float:
-    """Sum of the distances between consecutive poses, m."""
-    return sum(a.distance_to(b) for a, b in zip(poses, poses[1:]))
-
-
-def heading_to(a: Pose2D, b: Pose2D) -> float:
-    """Direction from a to b, rad."""
-    return math.atan2(b.y - a.y, b.x - a.x)

@@ -2,72 +2,18 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
-import numpy as np
-
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
-from behaviors.clearance import clearances
 from navcore.error_codes import RecoveryError
-from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
-from navcore.types import Pose2D, Twist, angle_diff
-from behaviors.actions.record_pose_history import heading_to
+from navcore.motion.escape import arc_goal, rank_candidates
+from navcore.motion.geometry import ring_candidates
+from navcore.types import Pose2D, Twist
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
-
-
-def ring_candidates(center: Pose2D, min_distance: float, max_distance: float, radial_step: float,
-                    angular_samples: int) -> list[Pose2D]:
-    """Poses on rings around ``center``, each facing away from it."""
-    out = []
-    radii = np.arange(min_distance, max_distance + 1e-9, max(radial_step, 1e-3))
-    for r in radii:
-        for k in range(angular_samples):
-            a = center.theta + 2.0 * math.pi * k / angular_samples
-            out.append(Pose2D(center.x + r * math.cos(a), center.y + r * math.sin(a),
-                              math.atan2(math.sin(a), math.cos(a))))
-    return out
-
-
-# spacing of the footprint checks along a candidate arc while searching, m
-ARC_SEARCH_STEP = 0.03
-
-
-# clear arcs compared for clearance, and the clearance (m) beyond which any arc will do
-ARC_CHOICES = 8
 
 
 # arc searches per run: a blocked arc is replaced by a new one from where the robot stands
 ARC_SEARCHES = 3
-
-
-ARC_GAP_ENOUGH = 0.1
-
-
-def arc_poses(pose: Pose2D, x: float, y: float, step: float,
-              max_turn: float = 0.5 * math.pi, end_only: bool = False) -> list[Pose2D] | None:
-    """Poses every ``step`` metres along the circular arc a differential drive follows from
-    ``pose`` to the point (x, y), forwards if the point is ahead, backwards if behind; the last
-    one is at the point with the heading the arc ends with (``end_only``: just that one). None
-    when the arc would turn by more than ``max_turn`` or the point is (nearly) abeam or at the
-    robot."""
-    rel = Pose2D(x, y, 0.0).relative_to(pose)
-    d2 = rel.x * rel.x + rel.y * rel.y
-    turn = 2.0 * math.atan2(abs(rel.y), abs(rel.x))
-    if d2 < 1e-6 or turn > max_turn:
-        return None
-    k = 2.0 * rel.y / d2                                    # curvature: w = v * k either way
-    length = turn / abs(k) if abs(k) > 1e-9 else abs(rel.x)
-    direction = 1.0 if rel.x > 0.0 else -1.0
-    n = max(1, int(math.ceil(length / step)))
-    out = []
-    for j in range(n if end_only else 1, n + 1):
-        s = direction * length * j / n                      # signed distance along the arc
-        a = k * s
-        lx = math.sin(a) / k if abs(k) > 1e-9 else s
-        ly = (1.0 - math.cos(a)) / k if abs(k) > 1e-9 else 0.0
-        out.append(pose.compose(Pose2D(lx, ly, a)))
-    return out
 
 
 class TemporaryGoal(RecoveryAction):
@@ -134,66 +80,22 @@ class TemporaryGoal(RecoveryAction):
         self._arc_mode = False
         self._arc_searches = 0
 
-    def _rank(self, pose: Pose2D) -> list[Pose2D]:
-        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
-        scored = []
-        for c in ring_candidates(pose, self.get_input("min_distance"),
-                                 self.get_input("search_radius"), self.get_input("radial_step"),
-                                 self.get_input("angular_samples")):
-            cost = int(handle.footprint_cost(c.x, c.y, c.theta)) if handle is not None else 0
-            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
-                # A differential drive reaches poses ahead or behind with gentle arcs, while a
-                # pose abeam needs a sharp turn that sweeps a corner into whatever is beside it.
-                bearing = abs(angle_diff(heading_to(pose, c), pose.theta))
-                turn = min(bearing, math.pi - bearing)
-                score = cost / INSCRIBED_INFLATED_OBSTACLE + turn / (0.5 * math.pi)
-                scored.append((round(score, 2), c.distance_to(pose), c))
-        scored.sort(key=lambda t: t[:2])
-        return [t[2] for t in scored]
+    def _candidates_around(self, pose: Pose2D) -> list[Pose2D]:
+        return ring_candidates(pose, self.get_input("min_distance"),
+                               self.get_input("search_radius"), self.get_input("radial_step"),
+                               self.get_input("angular_samples"))
 
-    def _to_goal(self, pose: Pose2D) -> float:
-        """Distance from ``pose`` to the navigation goal in tenths of a metre (0 without one)."""
-        goal = self.read("goal")
-        return round(pose.distance_to(goal), 1) if isinstance(goal, Pose2D) else 0.0
+    def _scoring_map(self) -> Any:
+        return self.costmaps.get(self.get_input("costmap")) or self.collision_map()
+
+    def _rank(self, pose: Pose2D) -> list[Pose2D]:
+        return rank_candidates(self._scoring_map(), pose, self._candidates_around(pose))
 
     def _arc_goal(self, pose: Pose2D) -> Pose2D | None:
-        """The best pose one arc away (forwards or backwards, turning at most 90 degrees) whose
-        footprint is free at the arc's end and clear all along it; None if there is none.
-        Ranked by openness at the end (in tenths of the inscribed cost), then by the distance
-        left to the navigation goal (tenths of a metre; when one is known), then arc length."""
-        handle = self.costmaps.get(self.get_input("costmap")) or self.collision_map()
-        ends = []
-        for c in ring_candidates(pose, self.get_input("min_distance"),
-                                 self.get_input("search_radius"), self.get_input("radial_step"),
-                                 self.get_input("angular_samples")):
-            last = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP, end_only=True)
-            if last is None:
-                continue
-            end = last[0]
-            cost = int(handle.footprint_cost(end.x, end.y, end.theta)) if handle else 0
-            if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
-                half = 0.5 * abs(angle_diff(end.theta, pose.theta))   # arc from its chord
-                length = pose.distance_to(end) * (half / math.sin(half) if half > 1e-9 else 1.0)
-                ends.append((round(cost / INSCRIBED_INFLATED_OBSTACLE, 1), self._to_goal(end),
-                             round(length, 3), end, c))
-        ends.sort(key=lambda t: t[:3])
-        if self.get_input("disable_collision_checks"):
-            return ends[0][3] if ends else None
-        # Of the first few clear arcs, take the one that keeps farthest from lethal cells
-        # (the gentlest way out of a tight spot).
-        best, best_gap, clear = None, -math.inf, 0
-        for _, _, _, end, c in ends:
-            arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP) or []
-            if self.first_collision(arc, pose) is not None:
-                continue
-            gaps = clearances(handle, arc) if handle is not None else None
-            gap = min(float(np.min(gaps)), ARC_GAP_ENOUGH) if gaps is not None else 0.0
-            if gap > best_gap + 1e-3:
-                best, best_gap = end, gap
-            clear += 1
-            if clear >= ARC_CHOICES or best_gap >= ARC_GAP_ENOUGH:
-                break
-        return best
+        goal = self.read("goal")
+        return arc_goal(self._scoring_map(), self.collision_map(), pose,
+                        self._candidates_around(pose), goal if isinstance(goal, Pose2D) else None,
+                        not self.get_input("disable_collision_checks"))
 
     def update(self) -> Status:
         pose = self.robot.pose()

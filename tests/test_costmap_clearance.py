@@ -1,10 +1,10 @@
-"""behaviors.clearance: the numba clearance kernel against the plain numpy formulation."""
+"""navcore.costmap.clearance: the numba clearance kernel against the plain numpy formulation."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from behaviors.clearance import footprint_clearances
+from navcore.costmap.clearance import footprint_clearances
 
 
 def _segment_distances(p, a, b):
