@@ -236,3 +236,24 @@ def test_groot_palette_has_every_node(tmp_path, capsys):
     assert {p.get("name") for p in spin} >= {"spin_dist", "time_allowance", "error_code_id",
                                             "error_msg"}
     assert ids["RecoveryNode"].tag == "Control" and ids["RateController"].tag == "Decorator"
+
+
+def test_shipped_nav2_tree_exports_with_nav2_ports_only():
+    """trees/nav2.yaml is written with Nav2's own ports, so its XML export passes Nav2's node
+    model (every attribute of a Nav2 node type is one of that type's Nav2 ports) and loads in
+    BehaviorTree.CPP with Nav2's plugins; the clear nodes still pick their costmaps."""
+    import xml.etree.ElementTree as ET
+
+    from executive import nav2_model
+    from executive.tree_loader import shipped_tree
+    t = load_tree(shipped_tree("nav2"))
+    root = ET.fromstring(to_xml(t))
+    for bt in root.findall("BehaviorTree"):
+        for el in bt.iter():
+            if nav2_model.category(el.tag) is None:
+                continue
+            extra = set(el.attrib) - nav2_model.any_ports(el.tag) - {"name", "ID"}
+            assert not extra, (el.tag, extra)
+    clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
+    assert sorted(c.get_input("costmap") for c in clears) == ["global", "global", "local",
+                                                              "local"]
