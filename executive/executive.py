@@ -39,7 +39,6 @@ from executive.task import MissionResult, Task
 from executive.tree_loader import LoadedTree
 
 _mission_ids = itertools.count(1)
-_BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
 
 
 class LiveRobotState:
@@ -148,7 +147,6 @@ class Executive:
         self._wall = wall_clock if wall_clock is not None else WallClock()
         self._events: list[dict[str, Any]] = []
         self.handle.set("cmd_vel", None)
-        self._cmd_key = f"{self.namespace}/cmd_vel"
         self._watcher = BlackboardWatcher(self.namespace)
         # recovery nodes and the starts seen so far (each start is a "recovery fired" event)
         self._recoveries = [n for n in self.tree.root.iterate() if isinstance(n, Recovery)]
@@ -276,10 +274,8 @@ class Executive:
     def _decide(self) -> Twist | None:
         """Tick the tree once; the ``cmd_vel`` written during this tick, None if none was or
         the tick raised (a bug: ``internal_error`` is set, the tree interrupted)."""
-        storage = _BLACKBOARD.storage
-        storage[self._cmd_key] = None  # direct: the client's access checks cost more than a tick
         try:
-            self.tree.tick()
+            return self.handle.tick_command()
         except Exception as e:  # noqa: BLE001 - a bug: INTERNAL_ERROR, the robot stops
             node, where = failing_node(e)
             self._error(node if node is not None else "tree", where, e)
@@ -292,8 +288,6 @@ class Executive:
         finally:
             if self._recoveries:
                 self._note_recoveries()
-        requested = storage.get(self._cmd_key)
-        return requested if isinstance(requested, Twist) else None
 
     def _act(self, requested: Twist | None, now: float, errors: list[str] | None = None
              ) -> Twist:

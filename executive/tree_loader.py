@@ -31,6 +31,7 @@ from navcore.types import Twist
 __all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "load_text",
            "to_xml", "to_yaml", "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
 
+_BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
 TREES_DIR = Path(__file__).resolve().parent.parent / "trees"
 SHIPPED_TREES = ("move_base", "nav2", "smach_recovery", "near_goal_reconfigure")
 
@@ -105,12 +106,18 @@ class LoadedTree:
 
     def tick(self) -> Twist:
         """Tick once and return the ``cmd_vel`` written during this tick (zero if none)."""
-        storage = py_trees.blackboard.Blackboard.storage
+        cmd = self.tick_command()
+        return cmd if cmd is not None else Twist.zero()
+
+    def tick_command(self) -> Twist | None:
+        """Tick once; the ``cmd_vel`` written during this tick, None if nothing was (the
+        executive's safety gate tells "no command" from a zero one)."""
+        storage = _BLACKBOARD.storage
         key = self.namespace + "/cmd_vel"
-        storage.pop(key, None)
+        storage[key] = None   # direct: a client's access checks cost more than a small tick
         self.tree.tick()
         cmd = storage.get(key)
-        return cmd if isinstance(cmd, Twist) else Twist.zero()
+        return cmd if isinstance(cmd, Twist) else None
 
     @property
     def status(self) -> Status:
