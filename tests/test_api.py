@@ -11,11 +11,11 @@ import pytest
 from executive import (Navigator, Pose2D, TreeLoadError, WiringError, World, load_config,
                        load_tree, open_mission, parse_tree)
 from executive.executive import Executive
-from executive.noop import KinematicRobot
 from executive.task import _remaining
+from hw.interfaces import BaseEvents
 from navcore.clock import SimClock
 from navcore.synthetic_maps import ascii_map
-from navcore.types import Path
+from navcore.types import Odometry, Path, Twist
 
 ROOM = ascii_map("\n".join(["#" * 25] + ["#" + "." * 23 + "#"] * 10 + ["#" * 25]),
                  resolution=0.2)
@@ -26,15 +26,41 @@ def config():
     return load_config()
 
 
-class Blind(KinematicRobot):
-    """The no-op kinematic robot without its (fixed-range, for benchmarks) laser."""
+class Blind:
+    """A RobotIO without a laser: a unicycle integrating the last command exactly."""
 
     def __init__(self, pose: Pose2D = Pose2D()) -> None:
-        super().__init__(pose)
-        self.laser = None
+        self.t, self.pose, self.cmd = 0.0, pose, Twist()
+        self.base, self.laser = self, None
+
+    def send(self, cmd: Twist) -> None:
+        self.cmd = cmd
+
+    def odometry(self) -> Odometry:
+        return Odometry(self.t, self.pose, self.cmd)
+
+    def battery(self) -> None:
+        return None
+
+    def events(self) -> BaseEvents:
+        return BaseEvents()
+
+    def step_to(self, t: float) -> None:
+        dt, p, c = t - self.t, self.pose, self.cmd
+        if dt > 0:
+            self.pose = Pose2D(p.x + c.vx * math.cos(p.theta) * dt,
+                               p.y + c.vx * math.sin(p.theta) * dt,
+                               math.remainder(p.theta + c.wz * dt, 2 * math.pi))
+            self.t = t
+
+    def true_pose(self) -> Pose2D:
+        return self.pose
+
+    def in_collision(self) -> bool:
+        return False
 
 
-def _robot_mission(config, tree="nav2") -> tuple[Navigator, KinematicRobot]:
+def _robot_mission(config, tree="nav2") -> tuple[Navigator, Blind]:
     robot = Blind(Pose2D(1.0, 1.2))
     return open_mission(tree, config, ROOM, Pose2D(1.0, 1.2), io=robot), robot
 
@@ -52,12 +78,12 @@ def test_load_tree_by_shipped_name_gets_a_namespace_of_its_own():
 def test_executive_refuses_a_namespace_other_than_its_trees(config):
     tree = load_tree("nav2")
     with pytest.raises(ValueError, match="not the tree's"):
-        Executive(tree, KinematicRobot(), SimClock(), 0.1, namespace="/elsewhere")
+        Executive(tree, Blind(), SimClock(), 0.1, namespace="/elsewhere")
 
 
 def test_open_mission_refuses_world_or_localisation_it_cannot_honour(config):
     with pytest.raises(WiringError, match="'world' and 'hardware'"):
-        open_mission("nav2", config, ROOM, io=KinematicRobot(), world=World())
+        open_mission("nav2", config, ROOM, io=Blind(), world=World())
     with pytest.raises(WiringError, match="needs a laser"):
         open_mission("nav2", config, ROOM, io=Blind(), localise=True)
     with pytest.raises(WiringError, match="give a map"):
