@@ -80,8 +80,13 @@ def _grid(grid: OccupancyGrid | str | os.PathLike) -> OccupancyGrid:
     return grid if isinstance(grid, OccupancyGrid) else load_map(str(grid))
 
 
-def _tree(tree: LoadedTree | str | os.PathLike) -> LoadedTree:
-    return tree if isinstance(tree, LoadedTree) else load_tree(tree)
+def _tree(tree: LoadedTree | str | os.PathLike, config: RobotConfig) -> LoadedTree:
+    """A loaded tree as given, or loaded from its path with the config's port defaults (as
+    ``build_mission`` loads one)."""
+    if isinstance(tree, LoadedTree):
+        return tree
+    return load_tree_file(_tree_path(tree), namespace=_namespace(),
+                          port_defaults=config.port_defaults())
 
 
 def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | None = None,
@@ -130,7 +135,7 @@ def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | Non
     if world is not None or hardware is not False:
         raise WiringError("open_mission: 'world' and 'hardware' describe the config's robot; "
                           "with your own robot I/O leave them out")
-    loaded = _tree(tree)
+    loaded = _tree(tree, config)
     if clock is None:
         clock = WallClock() if realtime else SimClock()
     if localise is None:
