@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -10,7 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from navcore.controllers import DWAPlanner, make_controller
-from navcore.controllers.critics import REJECTED, footprint_scale, grid_critic, grid_critics
+from navcore.controllers.critics import (REJECTED, W_ALIGNMENT, W_GOAL, W_GOAL_FRONT, W_PATH,
+                                       DwaWeights, footprint_scale, grid_critic, grid_critics)
 from navcore.controllers.map_grid import densify_plan, distance_grid, local_plan, plan_cells
 from navcore.controllers.oscillation import OscillationFlags
 from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, simulate,
@@ -168,12 +170,16 @@ def test_fused_grid_critics_equal_the_critic_chain(seed, align, goal):
     steps = rng.integers(1, 60, 30)
     pts, _, nose = simulate(samples, steps, 1.0, 1.0, rng.uniform(-3, 3), np.zeros(3),
                             np.ones(3), 1.7, CONSTANT, 0.325)
-    w = np.array([0.01, 0.04, align, 0.03, goal, 0.0, 0.325, 0.25, 0.55, 0.2, 0.0])
+    w = DwaWeights(occdist=0.01, goal_front=0.04, alignment=align, path=0.03, goal=goal,
+                   twirling=0.0, forward_point_distance=0.325, scaling_speed=0.25,
+                   max_vel_trans=0.55, max_scaling_factor=0.2, sum_scores=0.0).array()
     for k in range(30):
         n = int(steps[k])
         chain = []
-        for scale, grid, shift, stop in ((w[1], front_g, 0.325, False), (w[2], path_g, 0.325, False),
-                                         (w[3], path_g, 0.0, True), (w[4], goal_g, 0.0, True)):
+        for scale, grid, shift, stop in ((w[W_GOAL_FRONT], front_g, 0.325, False),
+                                         (w[W_ALIGNMENT], path_g, 0.325, False),
+                                         (w[W_PATH], path_g, 0.0, True),
+                                         (w[W_GOAL], goal_g, 0.0, True)):
             if scale != 0.0:
                 chain.append((scale, grid_critic(pts, k, n, grid, 0.0, 0.0, 0.05, shift, stop)))
         neg = [c for _, c in chain if c < 0]
@@ -337,11 +343,11 @@ def test_footprint_bound_skips_rasterising_without_changing_any_score(seed):
     pose = Pose2D(0.0, 0.0, float(rng.uniform(-1, 1)))
     vel = Twist(float(rng.uniform(0.0, 0.5)), 0.0, float(rng.uniform(-0.5, 0.5)))
     ctx = dwa._prepare(pose, dwa._local_plan(pose, False))
-    assert ctx["reach"] > 0 and ctx["bound"].shape == cm.costs.shape
-    samples = dwa.sample_window(vel, pose, ctx["local_goal"])
+    assert ctx.reach > 0 and ctx.bound.shape == cm.costs.shape
+    samples = dwa.sample_window(vel, pose, ctx.local_goal)
     for exhaustive in (False, True):
         with_bound = dwa._score(pose, vel, samples, ctx, exhaustive)
-        plain = dwa._score(pose, vel, samples, dict(ctx, bound=np.zeros((0, 0), np.uint8)),
+        plain = dwa._score(pose, vel, samples, dataclasses.replace(ctx, bound=np.zeros((0, 0), np.uint8)),
                            exhaustive)
         assert with_bound[-1] == plain[-1]
         assert np.array_equal(with_bound[-3], plain[-3])   # scores, bit for bit

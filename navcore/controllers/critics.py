@@ -36,12 +36,38 @@ critics are inlined into the one kernel: a call taking arrays costs more than th
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.costmap.footprint import footprint_cost, reach_of
+
+
+class DwaWeights(NamedTuple):
+    """The DWA critics' scales of one cycle, by name; ``array()`` is the float64 array the
+    kernels take, in this order (the ``W_*`` indices below)."""
+
+    occdist: float
+    goal_front: float
+    alignment: float
+    path: float
+    goal: float
+    twirling: float
+    forward_point_distance: float
+    scaling_speed: float
+    max_vel_trans: float
+    max_scaling_factor: float
+    sum_scores: float  # 1.0: sum the critics' scores (ROS sum_scores), 0.0: as ROS default
+
+    def array(self) -> np.ndarray:
+        return np.array(self, dtype=np.float64)
+
+
+# positions in DwaWeights.array() (module constants: compile-time constants in the kernels)
+(W_OCCDIST, W_GOAL_FRONT, W_ALIGNMENT, W_PATH, W_GOAL, W_TWIRLING, W_FORWARD_POINT_DISTANCE,
+ W_SCALING_SPEED, W_MAX_VEL_TRANS, W_MAX_SCALING_FACTOR, W_SUM_SCORES) = range(11)
 
 SCORED, PRUNED, REJECTED = 0, 1, 2
 
@@ -119,10 +145,10 @@ def grid_critics(pts: np.ndarray, nose: np.ndarray, k: int, n: int, origin_x: fl
     Same results as ``grid_critic`` called once per critic (aggregation Last; goal_front and
     alignment at the nose points without stop_on_failure; path and goal with it).
     """
-    front_s = weights[1]
-    align_s = weights[2]
-    path_s = weights[3]
-    goal_s = weights[4]
+    front_s = weights[W_GOAL_FRONT]
+    align_s = weights[W_ALIGNMENT]
+    path_s = weights[W_PATH]
+    goal_s = weights[W_GOAL]
     size_y, size_x = path_grid.shape
     obstacle = size_x * size_y
     inv = 1.0 / resolution
@@ -305,8 +331,7 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     """Score every trajectory; return (scores, state per trajectory, best index or -1).
 
     ``nose``: the points ``forward_point_distance`` ahead (from ``simulate``).
-    ``weights``: occdist, goal_front, alignment, path, goal, twirling scales, forward shift,
-    scaling_speed, max_vel_trans, max_scaling_factor, sum_scores (0/1).
+    ``weights``: ``DwaWeights.array()``.
     ``state``: SCORED, PRUNED (score is a lower bound) or REJECTED (score is the code).
     With ``exhaustive`` every trajectory is scored in full (for drawing and for tests).
     ``bound``, ``reach``: see ``obstacle_critic`` (a 0 x 0 ``bound``: rasterise every footprint);
@@ -317,9 +342,9 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
     footprints, checked far end first and every 4th point before the rest so that a lethal cell or
     a blown budget shows up soon.
     """
-    occ_s = weights[0]
-    twirl_s = weights[5]
-    sum_scores = weights[10] != 0.0
+    occ_s = weights[W_OCCDIST]
+    twirl_s = weights[W_TWIRLING]
+    sum_scores = weights[W_SUM_SCORES] != 0.0
     k_n = pts.shape[0]
     scores = np.zeros(k_n)
     state = np.zeros(k_n, dtype=np.int8)
@@ -395,7 +420,8 @@ def score_dwa(pts: np.ndarray, nose: np.ndarray, steps: np.ndarray, vels: np.nda
             heap_n = _heap_push(heap_keys, heap_ids, heap_n, scores[k], k)
             continue
         fp = footprint
-        s = footprint_scale(vels[k, 0], vels[k, 1], weights[7], weights[8], weights[9])
+        s = footprint_scale(vels[k, 0], vels[k, 1], weights[W_SCALING_SPEED],
+                            weights[W_MAX_VEL_TRANS], weights[W_MAX_SCALING_FACTOR])
         if s != 1.0:
             fp = footprint * s
         reach_k = -1

@@ -10,6 +10,7 @@ obstacle critic keeps rejecting lethal trajectories even when ``occdist_scale`` 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -21,12 +22,31 @@ from navcore.types import Pose2D, Twist
 
 from navcore.controllers import goal_checks as gc
 from navcore.controllers.base import LocalPlannerBase
-from navcore.controllers.critics import score_dwa
+from navcore.controllers.critics import DwaWeights, score_dwa
 from navcore.controllers.map_grid import densify_plan, distance_grid, plan_cells
 from navcore.controllers.oscillation import OscillationFlags
 from navcore.controllers.result import ControlResult, ControlStatus, describe_rejections
 from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, sample_grid,
                                          simulate)
+
+@dataclass(frozen=True)
+class DwaCycle:
+    """What one cycle's scoring reads (updatePlanAndLocalCosts): the costmap window, the
+    distance grids from the path, the local goal and the point ahead of it, the critics'
+    weights (``DwaWeights.array()``) and the footprint cost bound."""
+
+    costs: np.ndarray
+    ox: float
+    oy: float
+    res: float
+    path: np.ndarray
+    goal: np.ndarray
+    front: np.ndarray
+    weights: np.ndarray
+    local_goal: tuple[float, float]
+    bound: np.ndarray
+    reach: int
+
 
 LIMITS_PARAMS = (
     Param("max_vel_trans", 0.55, float, "max translational speed |(vx, vy)| (m/s)", min=0.0),
@@ -158,7 +178,7 @@ class DWAPlanner(LocalPlannerBase):
         self._rotating_to_goal = False
         return self._follow(pose, velocity, local, ctx)
 
-    def _prepare(self, pose: Pose2D, local: np.ndarray) -> dict[str, Any]:
+    def _prepare(self, pose: Pose2D, local: np.ndarray) -> DwaCycle:
         """Grids and critic weights of this cycle (updatePlanAndLocalCosts)."""
         p, cm = self._p(), self.costmap
         costs = self._costs()
@@ -183,12 +203,14 @@ class DWAPlanner(LocalPlannerBase):
         pdist, gdist = p.path_distance_bias * res, p.goal_distance_bias * res
         fpd = p.forward_point_distance
         near_goal = (gx - pose.x) ** 2 + (gy - pose.y) ** 2 <= fpd * fpd * p.cheat_factor
-        weights = np.array([p.occdist_scale, gdist, 0.0 if near_goal else pdist, pdist, gdist,
-                            p.twirling_scale, fpd, p.scaling_speed, p.max_vel_trans,
-                            p.max_scaling_factor, 1.0 if p.sum_scores else 0.0])
-        return dict(costs=costs, ox=ox, oy=oy, res=res, path=path_grid, goal=goal_grid,
-                    front=front_grid, weights=weights, local_goal=(gx, gy), bound=bound,
-                    reach=reach)
+        weights = DwaWeights(occdist=p.occdist_scale, goal_front=gdist,
+                             alignment=0.0 if near_goal else pdist, path=pdist, goal=gdist,
+                             twirling=p.twirling_scale, forward_point_distance=fpd,
+                             scaling_speed=p.scaling_speed, max_vel_trans=p.max_vel_trans,
+                             max_scaling_factor=p.max_scaling_factor,
+                             sum_scores=1.0 if p.sum_scores else 0.0)
+        return DwaCycle(costs, ox, oy, res, path_grid, goal_grid, front_grid, weights.array(),
+                        (gx, gy), bound, reach)
 
     def _sync_grid_cache(self, costs: np.ndarray, ox: float, oy: float, res: float) -> None:
         """Keep the cached distance grids only while the costmap window (origin, resolution and
@@ -227,7 +249,7 @@ class DWAPlanner(LocalPlannerBase):
         p = self._p()
         return np.array([p.acc_lim_x, p.acc_lim_y, p.acc_lim_theta])
 
-    def _score(self, pose: Pose2D, velocity: Twist, samples: np.ndarray, ctx: dict[str, Any],
+    def _score(self, pose: Pose2D, velocity: Twist, samples: np.ndarray, ctx: DwaCycle,
                exhaustive: bool) -> tuple[np.ndarray, ...]:
         """Roll out and score ``samples``: (points, steps, commands, scores, state, best)."""
         p = self._p()
@@ -238,10 +260,10 @@ class DWAPlanner(LocalPlannerBase):
         pts, cmds, nose = simulate(samples, steps, pose.x, pose.y, pose.theta, vel, self._acc(),
                                    p.sim_time, CONSTANT if p.use_dwa else RAMPED,
                                    p.forward_point_distance)
-        scores, state, best = score_dwa(pts, nose, steps, cmds, ctx["costs"], ctx["ox"], ctx["oy"],
-                                        ctx["res"], self.footprint, ctx["path"], ctx["goal"],
-                                        ctx["front"], ctx["weights"], self.oscillation.only,
-                                        exhaustive, ctx["bound"], ctx["reach"])
+        scores, state, best = score_dwa(pts, nose, steps, cmds, ctx.costs, ctx.ox, ctx.oy,
+                                        ctx.res, self.footprint, ctx.path, ctx.goal, ctx.front,
+                                        ctx.weights, self.oscillation.only, exhaustive,
+                                        ctx.bound, ctx.reach)
         return pts, steps, cmds, scores, state, best
 
     def sample_window(self, velocity: Twist, pose: Pose2D | None = None,
@@ -268,9 +290,9 @@ class DWAPlanner(LocalPlannerBase):
                            np.array([p.vx_samples, p.vy_samples, p.vth_samples]))
 
     def _follow(self, pose: Pose2D, velocity: Twist, local: np.ndarray,
-                ctx: dict[str, Any]) -> ControlResult:
+                ctx: DwaCycle) -> ControlResult:
         p = self._p()
-        samples = self.sample_window(velocity, pose, ctx["local_goal"])
+        samples = self.sample_window(velocity, pose, ctx.local_goal)
         pts, steps, cmds, scores, state, best = self._score(pose, velocity, samples, ctx,
                                                              self.exhaustive)
         if best < 0:
@@ -285,7 +307,7 @@ class DWAPlanner(LocalPlannerBase):
                              pts[best, :steps[best]].copy(), pts,
                              scores, cmds, reason=f"{self.NAME}: cost {scores[best]:.4f}")
 
-    def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: dict[str, Any]) -> bool:
+    def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: DwaCycle) -> bool:
         """checkTrajectory: would the whole critic chain accept holding ``cmd``? A command too
         slow to simulate counts as legal (ROS scores its empty trajectory as 0)."""
         sample = np.array([[cmd.vx, cmd.vy, cmd.wz]])
@@ -299,7 +321,7 @@ class DWAPlanner(LocalPlannerBase):
         return best == 0 and scores[0] >= 0
 
     def _stop_and_rotate(self, pose: Pose2D, velocity: Twist, goal: Pose2D,
-                         ctx: dict[str, Any]) -> ControlResult:
+                         ctx: DwaCycle) -> ControlResult:
         """LatchedStopRotateController: at the goal position, brake, then turn to the goal yaw."""
         p = self._p()
         if gc.yaw_reached(pose, goal, p.yaw_goal_tolerance):
