@@ -40,11 +40,13 @@ def open_timing(run_dir: str | os.PathLike) -> TextIO:
 
 
 def open_recorder(run_dir: str | os.PathLike, grid: OccupancyGrid | None = None,
-                  mcap: bool = True, sinks: Sequence[Any] = ()) -> Recorder:
+                  mcap: bool = True, sinks: Sequence[Any] = (), bag: str | None = None
+                  ) -> Recorder:
     """A Recorder writing ``run_dir/ticks.jsonl`` (and ``timing.jsonl``), capturing what the
     pictures need and, when foxglove-sdk is installed and ``mcap``, writing ``run_dir/run.mcap``
-    (with ``grid`` as /map); ``sinks`` are added too (the live server). Close it with
-    ``recorder.close()``."""
+    (with ``grid`` as /map); ``bag`` (``ros1``, ``ros2``, ``ros2-mcap``) also writes a ROS bag
+    (``run.bag`` or the folder ``run_bag``); ``sinks`` are added too (the live server). Close it
+    with ``recorder.close()``."""
     stream = open_log(run_dir)
     kept: list[Any] = [RunCapture()]
     if mcap:
@@ -53,6 +55,9 @@ def open_recorder(run_dir: str | os.PathLike, grid: OccupancyGrid | None = None,
             kept.append(FoxgloveSink(mcap_path=FsPath(run_dir) / "run.mcap", grid=grid))
         except ImportError:
             pass  # foxglove-sdk is an optional extra: summary.json says the file is missing
+    if bag is not None:
+        from executive.bags import BagSink, bag_path
+        kept.append(BagSink(bag_path(run_dir, bag), bag, grid=grid))
     return Recorder(stream, sinks=kept + list(sinks), timing=open_timing(run_dir))
 
 

@@ -19,6 +19,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--realtime", action="store_true", help="run at wall-clock speed")
     p.add_argument("--record", metavar="DIR", help="write a run folder to DIR (tick log, "
                                                    "pictures, replay.html, run.mcap)")
+    p.add_argument("--bag", choices=("ros1", "ros2", "ros2-mcap"),
+                   help="--record: also write the run as a ROS bag (DIR/run.bag or DIR/run_bag; "
+                        "needs navbt[bags])")
     p.add_argument("--live", action="store_true",
                    help="serve the run over Foxglove's WebSocket protocol while it runs "
                         "(needs navbt[foxglove]); open ws://HOST:PORT in Foxglove")
@@ -76,7 +79,13 @@ def run(args: argparse.Namespace) -> int:
     recorder = Recorder(None, sinks=live)
     if args.record:
         from executive.run_folder import open_recorder
-        recorder = open_recorder(args.record, grid=grid, sinks=live)
+        from executive.bags import BagError
+        try:
+            recorder = open_recorder(args.record, grid=grid, sinks=live, bag=args.bag)
+        except BagError as e:
+            return fail("run", f"--bag: {e}")
+    elif args.bag:
+        return fail("run", "--bag needs --record DIR (the bag goes into the run folder)")
     try:
         # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
         nav = open_mission(args.tree, config, grid, args.start, seed=args.seed,
