@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from behaviors.base import INVALID, RUNNING, DecoratorNode, PortInformation, Ticking
+from behaviors.base import PortInformation
+from behaviors.decorators.throttle import Throttle
 from navcore.types import Pose2D
 
 
-class GoalUpdatedController(DecoratorNode):
+class GoalUpdatedController(Throttle):
     """Tick the child on the first tick of a run, while it is RUNNING, and whenever ``goal``
     changed; otherwise return the child's last result (Nav2 ``GoalUpdatedController``).
 
@@ -18,15 +19,13 @@ class GoalUpdatedController(DecoratorNode):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     DEFAULT_KEYS = {"goal": "goal"}
 
-    def tick_children(self) -> Ticking:
+    RESTART_WHEN_DUE = True  # a new goal restarts a child still planning for the old one
+
+    def start_run(self) -> None:
+        self._goal = self.read("goal")
+
+    def due(self) -> bool:
         goal = self.read("goal")
-        if self.status is INVALID:
-            self._last_status, self._goal = INVALID, goal
         changed = goal != self._goal
         self._goal = goal
-        if self._last_status is INVALID or self.decorated.status is RUNNING or changed:
-            if changed and self.decorated.status is RUNNING:
-                self.halt_child()  # restart the child for the new goal
-            yield from self.decorated.tick()
-            self._last_status = self.decorated.status
-        return self._last_status
+        return changed

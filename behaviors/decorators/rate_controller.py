@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, Ticking
+from behaviors.base import RUNNING, Port, PortInformation, Status
+from behaviors.decorators.throttle import Throttle
 from behaviors.decorators.timeout import Timed
 
 
-class RateController(Timed):
+class RateController(Throttle, Timed):
     """Tick the child at most ``hz`` times per second (Nav2 ``RateController``).
 
     The child is ticked on the first tick of a run, whenever it is RUNNING, and when ``1/hz``
@@ -21,19 +22,18 @@ class RateController(Timed):
     INPUT_PORTS = {"hz": Port(float, False, "rate, Hz; 0 = once per run", 10.0, low=0.0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
-        now = self.clock.now()
-        hz = self.get_input("hz")
-        if self.status is INVALID:
-            self._last_ok = -math.inf
-            self._last_status = INVALID
-        due = hz > 0.0 and now - self._last_ok >= 1.0 / hz - 1e-9  # float sums of periods
-        if (self._last_status is INVALID or self.decorated.status is RUNNING or due):
-            yield from self.decorated.tick()
-            self._last_status = self.decorated.status
-            if self._last_status is SUCCESS:
-                self._last_ok = now
-            return self._last_status
-        self.say("throttled: {:.2f} s to the next tick", self._last_ok + 1.0 / hz - now
+    def start_run(self) -> None:
+        self._last_ok = -math.inf
+
+    def due(self) -> bool:
+        self._now, self._hz = self.clock.now(), self.get_input("hz")
+        return self._hz > 0.0 and self._now - self._last_ok >= 1.0 / self._hz - 1e-9  # float sums
+
+    def child_succeeded(self) -> None:
+        self._last_ok = self._now
+
+    def throttled(self) -> Status:
+        hz = self._hz
+        self.say("throttled: {:.2f} s to the next tick", self._last_ok + 1.0 / hz - self._now
                  if hz > 0.0 else math.inf)
         return RUNNING

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 
-from behaviors.base import INVALID, RUNNING, SUCCESS, Port, PortInformation, Ticking
+from behaviors.base import Port, PortInformation
+from behaviors.decorators.throttle import Throttle
 from behaviors.decorators.distance_controller import UsesRobot
 
 
-class SpeedController(UsesRobot):
+class SpeedController(Throttle, UsesRobot):
     """Tick the child at a rate that grows with the robot's speed (Nav2 ``SpeedController``).
 
     Rate = min_rate + (max_rate - min_rate) * (v - min_speed) / (max_speed - min_speed), clamped;
@@ -29,16 +30,14 @@ class SpeedController(UsesRobot):
         f = 0.0 if hi <= lo else min(1.0, max(0.0, (speed - lo) / (hi - lo)))
         return r0 + (r1 - r0) * f
 
-    def tick_children(self) -> Ticking:
-        now = self.clock.now()
+    def start_run(self) -> None:
+        self._last_ok = -math.inf
+
+    def due(self) -> bool:
+        self._now = self.clock.now()
         v = self.robot.velocity()
         rate = self.rate(math.hypot(v.vx, v.vy))
-        if self.status is INVALID:
-            self._last_status, self._last_ok = INVALID, -math.inf
-        due = rate > 0.0 and now - self._last_ok >= 1.0 / rate - 1e-9
-        if self._last_status is INVALID or self.decorated.status is RUNNING or due:
-            yield from self.decorated.tick()
-            self._last_status = self.decorated.status
-            if self._last_status is SUCCESS:
-                self._last_ok = now
-        return self._last_status
+        return rate > 0.0 and self._now - self._last_ok >= 1.0 / rate - 1e-9
+
+    def child_succeeded(self) -> None:
+        self._last_ok = self._now
