@@ -19,13 +19,10 @@ from pathlib import Path
 from typing import Any, Mapping
 from xml.parsers import expat
 
-import yaml
-
-from executive.ros_params import (Note, ParamTree, ParamsError, Path_, read_yaml, split_name,
-                                  yaml_lines)
+from executive.ros_params import (Note, ParamTree, ParamsError, Path_, parse_yaml_lines,
+                                  read_yaml, split_name)
 from navcore.params import suggest
-
-_MAX_INCLUDE_DEPTH = 32
+from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_yaml, read_bytes, read_text
 
 
 @dataclass
@@ -39,15 +36,17 @@ class _Elem:
 
 
 def _parse(file: str) -> _Elem:
-    try:
-        data = Path(file).read_bytes()
-    except OSError as e:
-        raise ParamsError(f"{file}: cannot read launch file ({e.strerror or e})") from None
+    """The element tree of a launch file, each element with its line (navcore.safe_read's size
+    limit; no entity declarations, nesting at most MAX_XML_DEPTH)."""
+    data = read_bytes(file, what="launch file", error=ParamsError)
     parser = expat.ParserCreate()
     stack: list[_Elem] = []
     root: list[_Elem] = []
 
     def start(tag: str, attrs: dict[str, str]) -> None:
+        if len(stack) >= MAX_XML_DEPTH:
+            raise ParamsError(f"{file}:{parser.CurrentLineNumber}: elements nested more than "
+                              f"{MAX_XML_DEPTH} deep (limit)")
         el = _Elem(tag, dict(attrs), parser.CurrentLineNumber)
         (stack[-1].children if stack else root).append(el)
         stack.append(el)
@@ -62,14 +61,24 @@ def _parse(file: str) -> _Elem:
                 el.text_line = parser.CurrentLineNumber
             el.text += text
 
+    def no_entities(name: str, *_: Any) -> None:  # no entity can expand into a bomb
+        raise ParamsError(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are "
+                          f"not allowed (entity '{name}')")
+
     parser.StartElementHandler = start
     parser.EndElementHandler = end
     parser.CharacterDataHandler = chars
+    parser.EntityDeclHandler = no_entities
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     try:
         parser.Parse(data, True)
     except expat.ExpatError as e:
         raise ParamsError(f"{file}:{e.lineno}: not valid XML: "
                           f"{expat.ErrorString(e.code)}") from None
+    except (LookupError, ValueError, UnicodeError) as e:
+        raise ParamsError(f"{file}:{parser.CurrentLineNumber}: not valid XML: {e}") from None
+    if not root:
+        raise ParamsError(f"{file}:1: not valid XML: no element")
     if root[0].tag != "launch":
         raise ParamsError(f"{file}:{root[0].line}: the top element must be <launch>, "
                           f"not <{root[0].tag}>")
@@ -232,9 +241,9 @@ class _Reader:
     def read(self, file: str, ctx_args: Mapping[str, str], ns: Path_ = (),
              where: str = "") -> None:
         self.depth += 1
-        if self.depth > _MAX_INCLUDE_DEPTH:
+        if self.depth > MAX_INCLUDE_DEPTH:
             raise ParamsError(f"{where or file}: includes nest deeper than "
-                              f"{_MAX_INCLUDE_DEPTH} (a cycle?)")
+                              f"{MAX_INCLUDE_DEPTH} (a cycle?)")
         root = _parse(file)
         ctx = _Context(file, ns, {}, dict(ctx_args), set())
         self.children(root, ctx)
@@ -344,9 +353,9 @@ class _Reader:
         if "textfile" in el.attrs:
             file = self.attr(el, "textfile", ctx) or ""
             try:
-                value: Any = Path(file).read_text(encoding="utf-8")
-            except OSError as e:
-                self.error(where, f"<param textfile=\"{file}\">: cannot read ({e.strerror})")
+                value: Any = read_text(file, what="textfile", error=ParamsError)
+            except ParamsError as e:
+                self.error(where, f"<param textfile=...>: {e}")
                 raise _Skip from None
         elif "value" in el.attrs:
             value = self.convert(self.attr(el, "value", ctx) or "",
@@ -382,8 +391,8 @@ class _Reader:
                     return False
                 raise ValueError(v)
             if kind == "yaml":
-                return yaml.safe_load(v)
-        except (ValueError, yaml.YAMLError):
+                return parse_yaml(v, "<param>", error=ValueError)
+        except ValueError:
             self.error(where, f"<param value=\"{value}\" type=\"{kind}\">: not a valid {kind}")
             raise _Skip from None
         self.error(where, f"<param type=\"{kind}\">: unknown type (str, int, double, bool, "
@@ -409,9 +418,9 @@ class _Reader:
         if "file" in el.attrs:
             file = self.attr(el, "file", ctx) or ""
             try:
-                text = Path(file).read_text(encoding="utf-8")
-            except OSError as e:
-                self.error(where, f"<rosparam file=\"{file}\">: cannot read ({e.strerror})")
+                text = read_text(file, what="rosparam file", error=ParamsError)
+            except ParamsError as e:
+                self.error(where, f"<rosparam file=...>: {e}")
                 raise _Skip from None
             if subst:
                 text = self.subst(text, ctx, file)
@@ -420,21 +429,22 @@ class _Reader:
             except ParamsError as e:
                 self.error(where, str(e))
                 raise _Skip from None
-            origin_file, offset = file, 0
+            origin_file = file
         else:
             text = el.text
             if subst:
                 text = self.subst(text, ctx, where)
             try:
-                doc = yaml.safe_load(text)
-            except yaml.YAMLError as e:
-                mark = getattr(e, "problem_mark", None)
-                line = el.text_line + mark.line if mark is not None else el.line
-                self.error(f"{ctx.file}:{line}", f"<rosparam>: not valid YAML "
-                                                 f"({getattr(e, 'problem', e)})")
+                doc, rel = parse_yaml_lines(text, "<rosparam>")
+            except ParamsError as e:
+                m = re.match(r"<rosparam>:(\d+): (.*)", str(e), re.S)
+                # (the parser may place an end-of-text error one line past the text)
+                rel_line = min(int(m.group(1)), text.count("\n") + 1) if m else 1
+                line = el.text_line + rel_line - 1 if m else el.line
+                self.error(f"{ctx.file}:{line}", f"<rosparam>: {m.group(2) if m else e}")
                 raise _Skip from None
-            lines = {k: el.text_line + n - 1 for k, n in yaml_lines(text).items()}
-            origin_file, offset = ctx.file, 0
+            lines = {k: el.text_line + n - 1 for k, n in rel.items()}
+            origin_file = ctx.file
         if param:
             if isinstance(doc, Mapping):
                 self.tree.load(doc, target, origin_file, lines)
@@ -446,7 +456,7 @@ class _Reader:
         if not isinstance(doc, Mapping):
             self.error(where, "<rosparam> without param= must hold a mapping of parameters")
             raise _Skip
-        self.tree.load(doc, target, origin_file, lines, offset or None)
+        self.tree.load(doc, target, origin_file, lines)
 
     def include(self, el: _Elem, ctx: _Context, where: str) -> None:
         file = self.attr(el, "file", ctx)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Iterator, Mapping
 
 import yaml
@@ -180,12 +179,12 @@ class ParamTree:
 
 # --------------------------------------------------------------------------- --params FILE[:NS]
 def split_params_arg(text: str) -> tuple[str, str]:
-    """``FILE[:NAMESPACE]`` -> (file, namespace); a drive letter or a file that exists with the
-    colon in its name stays a file."""
+    """``FILE[:NAMESPACE]`` -> (file, namespace); a file that exists with a colon in its name
+    stays whole."""
     if os.path.exists(text):
         return text, ""
     head, sep, tail = text.rpartition(":")
-    if sep and head and "/" not in tail.strip("/") or (sep and head and os.path.exists(head)):
+    if sep and head:
         return head, tail
     return text, ""
 
@@ -292,8 +291,6 @@ COSTMAP_IGNORED = {"map_type": "pre-Hydro costmap switch, only read without 'plu
 COSTMAP_LAYER_IGNORED = {"map_subscribe_transient_local": _TOPIC, "footprint_topic": _TOPIC,
                          "transform_tolerance": "transforms are exact here",
                          "use_sim_time": "time is the Clock's"}
-OBSERVATION_SOURCE_IGNORED = {"observation_keep_time_": "", "sensor_frame": _FRAME,
-                              "topic": _TOPIC}
 
 # move_base-level keys the costmaps find by searching up the namespace (costmap_2d searchParam):
 # footprint and robot_radius (makeFootprintFromParams), obstacle_range and raytrace_range (the

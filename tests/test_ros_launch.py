@@ -182,9 +182,20 @@ def test_roslaunch_errors_name_file_and_line(tmp_path):
                for e in errors)
     assert any(e.startswith(f"{f}:5: <param value=\"abc\" type=\"int\">") for e in errors)
     assert any(e.startswith(f"{f}:6: <group if=...>: 'maybe' is not a boolean") for e in errors)
-    assert any(e.startswith(f"{f}:7: <rosparam file=\"missing.yaml\">: cannot read")
-               for e in errors)
+    assert f"{f}:7: <rosparam file=...>: missing.yaml: cannot read rosparam file: not found" \
+        in errors
     assert any("arg 'nedd' is given but" in e and "(did you mean 'need'?)" in e for e in errors)
     (tmp_path / "broken.launch").write_text("<launch>\n  <param name='a'\n</launch>\n")
     with pytest.raises(ParamsError, match=r"broken.launch:3: not valid XML"):
         read_launch(tmp_path / "broken.launch")
+    (tmp_path / "bomb.launch").write_text('<?xml version="1.0"?>\n<!DOCTYPE l [<!ENTITY a '
+                                          '"aaaa">]>\n<launch>&a;</launch>\n')
+    with pytest.raises(ParamsError, match=r"bomb.launch:2: XML entity declarations are not "
+                                          r"allowed"):
+        read_launch(tmp_path / "bomb.launch")
+    (tmp_path / "inline.launch").write_text("<launch>\n  <rosparam>\n    a: 1\n    b: [1,\n"
+                                            "  </rosparam>\n</launch>\n")
+    got = read_launch(tmp_path / "inline.launch")
+    errors = [str(n) for n in got.notes if n.level == "error"]
+    assert len(errors) == 1 and errors[0].startswith(
+        f"{tmp_path / 'inline.launch'}:5: <rosparam>: not valid YAML")
