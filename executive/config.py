@@ -525,6 +525,40 @@ def _misplaced(key: str, known: Iterable[str]) -> str:
     return suggest(key, known)
 
 
+# move_base parameters that a tree decides in navbt (trees/move_base.yaml writes move_base's
+# defaults as its nodes' ports): where each one lives.
+MOVE_BASE_IN_TREE = {
+    "planner_frequency": "GoalUpdatedController (0) or RateController hz around "
+                         "ComputePathToPose",
+    "planner_patience": "Timeout msec around ComputePathToPose (PlannerPatience)",
+    "controller_patience": "FollowPath failure_tolerance",
+    "max_planning_retries": "RetryUntilSuccessful num_attempts (MaxPlanningRetries)",
+    "oscillation_timeout": "IsOscillating oscillation_timeout",
+    "oscillation_distance": "IsOscillating oscillation_distance",
+    "conservative_reset_dist": "ClearCostmapExceptRegion reset_distance (conservative_reset)",
+    "clearing_radius": "the recovery nodes' clearing ports",
+    "recovery_behavior_enabled": "the recovery subtree (MoveBaseRecoveries)",
+    "clearing_rotation_allowed": "the Spin nodes of the recovery subtree",
+    "shutdown_costmaps": "nothing (costmaps run while the executive runs)",
+    "make_plan_clear_costmap": "nothing (no make_plan service)",
+    "make_plan_add_unreachable_goal": "nothing (no make_plan service)",
+}
+
+
+def _note_move_base_in_tree(body: Mapping[str, Any], report: _Report) -> None:
+    """move_base parameters that the tree decides here: a value other than move_base's default
+    (which trees/move_base.yaml already has) is listed as ignored, saying where to set it."""
+    defaults = {p.name: p.default for p in MOVE_BASE_PARAMS}
+    for key, value in body.items():
+        where = MOVE_BASE_IN_TREE.get(key)
+        if where is None:
+            continue
+        if value != defaults[key]:
+            report.add("ignored", ("move_base", key), f"move_base: {key} = {value!r} is not "
+                       f"applied: in navbt the tree decides it ({where}; trees/move_base.yaml has "
+                       f"move_base's default {defaults[key]!r})")
+
+
 def _note_safety_clips(values: Mapping[str, Parameters], report: _Report) -> None:
     """A note for each local planner limit the safety gate's hard limit is tighter than (the
     gate clips such commands; ROS has no gate, so a ROS file does not say)."""
@@ -595,6 +629,9 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
         if specs is None:
             continue  # component not installed: its own constructor validates when built
         values[ns] = _checked(ns, specs, body, report)
+        if ns == "move_base":
+            _note_move_base_in_tree({k: getattr(values[ns], k) for k in body
+                                     if k in values[ns]}, report)
     if "robot" not in raw:
         robot_body: dict[str, Any] = {}
         _resolve_footprint(doc, robot_body, report)

@@ -46,6 +46,10 @@ def test_turtlebot3_launch_loads_unchanged(tb3, model, monkeypatch):
     ignored = " ".join(n.text for n in c.report if n.level == "ignored")
     assert "publish_traj_pc" in ignored and "publish_cost_grid_pc" in ignored
     assert "<remap> (move_base.launch:17, 18)" in ignored
+    # move_base_params.yaml values the tree decides here, listed (trees/move_base.yaml has
+    # move_base's defaults): planner_frequency 5.0, oscillation_timeout 10.0, ...
+    assert "move_base: planner_frequency = 5.0 is not applied: in navbt the tree decides it" \
+        in ignored and "move_base: oscillation_distance = 0.2 is not applied" in ignored
     # origins: each value names the file and line it came from
     assert c.origins[("DWAPlannerROS", "max_vel_x")].endswith(
         f"dwa_local_planner_params_{model}.yaml:4")
