@@ -367,9 +367,9 @@ def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, A
                                f"{COSTMAP_LAYER_IGNORED[key]}")
                     layer.pop(key)
                 out[name] = layer
-    else:
-        for key in ("publish_voxel_map", "map_topic", "inscribed_radius", "circumscribed_radius"):
-            if key in out and key in COSTMAP_IGNORED and key != "publish_voxel_map":
+    else:  # pre-Hydro layout: the costmap moves the layer keys itself; these it never read
+        for key in ("inscribed_radius", "circumscribed_radius"):
+            if key in out:
                 report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
                 out.pop(key)
     return out

@@ -214,3 +214,16 @@ def test_scenario_config_over_ros_files(shared_data, monkeypatch):
     c = scenario_config(scenario, sources)
     assert c.parameters["DWAPlannerROS"].max_vel_x == 0.26
     assert c.source.endswith("model:=waffle)")
+
+
+def test_params_namespaces_amcl_and_global_names(tmp_path):
+    f = _files(tmp_path, amcl="min_particles: 321\nodom_alpha1: 0.1\n",
+               local="rolling_window: true\nwidth: 2\nheight: 2\n")
+    c = _load(f"{f['amcl']}:amcl", f"{f['local']}:/move_base/local_costmap")
+    assert c.parameters["amcl"].min_particles == 321
+    assert c.origins[("amcl", "odom_alpha1")] == f"{f['amcl']}:2"
+    assert c.ns("local_costmap")["width"] == 2
+    c = _load(f"{f['amcl']}:/amcl")
+    assert c.parameters["amcl"].odom_alpha1 == 0.1
+    with pytest.raises(ConfigError, match=r"nothere.yaml: cannot read parameter file"):
+        _load(str(tmp_path / "nothere.yaml"))
