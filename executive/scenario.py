@@ -368,15 +368,20 @@ def scenario_config(scenario: Scenario, base: Any = None) -> Any:
     from executive.config import ConfigSources, config_from_mapping, merged_doc
     sources = base if isinstance(base, ConfigSources) else ConfigSources(config=base)
     doc, origins, notes = merged_doc(sources)
+    base_name = os.path.basename(sources.config) if sources.config else (
+        sources.describe() if sources.has_ros() else "robot.yaml")
+    source = f"{scenario.source} (over {base_name})"
     doc.setdefault("robot", {})
     doc["robot"] = dict(doc["robot"] or {}, **scenario.robot)
+    for key in scenario.robot:
+        origins[("robot", key)] = source          # the scenario's values: named as such
     for ns, values in scenario.params.items():
         if not isinstance(values, Mapping):
             raise ScenarioError(f"{scenario.source}: params: {ns}: expected a mapping")
         doc[ns] = dict(doc.get(ns) or {}, **values)
-    base_name = os.path.basename(sources.config) if sources.config else (
-        sources.describe() if sources.has_ros() else "robot.yaml")
-    return config_from_mapping(doc, f"{scenario.source} (over {base_name})", origins, notes)
+        for key in values:
+            origins[(ns, key)] = source
+    return config_from_mapping(doc, source, origins, notes)
 
 
 def run_scenario(scenario: Scenario, tree_path: str, record_dir: str | None = None,
