@@ -753,7 +753,8 @@ def merged_doc(sources: ConfigSources) -> tuple[dict[str, Any], dict[tuple, str]
     """Every source read and merged into one navbt config document, not yet validated: the
     document, the ``file:line`` of each key and the findings of reading (ConfigError when a
     file cannot be read at all)."""
-    from executive.ros_params import ParamTree, load_params_file, move_base_to_config
+    from executive.ros_params import (ParamTree, load_params_file, move_base_to_config,
+                                      split_params_arg)
     doc: dict[str, Any] = {}
     origins: dict[tuple, str] = {}
     notes: list[Note] = []
@@ -775,7 +776,8 @@ def merged_doc(sources: ConfigSources) -> tuple[dict[str, Any], dict[tuple, str]
                 notes += launched.notes
             for spec in sources.params:
                 load_params_file(tree, spec, node_ns)
-            converted = move_base_to_config(tree, node_ns, amcl_ns)
+            files = frozenset(split_params_arg(spec)[0] for spec in sources.params)
+            converted = move_base_to_config(tree, node_ns, amcl_ns, outside_files=files)
             _merge(doc, origins, converted.doc, converted.origins)
             notes += converted.notes
         for path in sources.nav2_params:

@@ -350,14 +350,15 @@ NAVBT_ONLY = ("robot", "sim", "safety")
 
 
 def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
-                        amcl_ns: Path_ | None = ("amcl",), out: Converted | None = None
-                        ) -> Converted:
+                        amcl_ns: Path_ | None = ("amcl",), out: Converted | None = None,
+                        outside_files: frozenset[str] = frozenset()) -> Converted:
     """The move_base node's parameters (and amcl's) as navbt config namespaces.
 
     Keys move_base reads go to ``move_base``; costmap and planner namespaces keep their names;
     ``footprint``/``robot_radius``/``obstacle_range``/``raytrace_range`` at the node level reach
     both costmaps (ROS finds them by searchParam); recovery lists get a note; a costmap parameter
-    at the node level is an error saying where it belongs (ROS would silently not use it)."""
+    at the node level is an error saying where it belongs (ROS would silently not use it).
+    Parameters outside both nodes that came from ``outside_files`` are listed as ignored."""
     from executive.config import MOVE_BASE_PARAMS
     out = out if out is not None else Converted()
     node = tree.get(node_ns)
@@ -395,6 +396,10 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
                                      "not read at its own level: load this file into a costmap "
                                      "namespace (<rosparam ns=\"global_costmap\"> / "
                                      f"--params FILE:local_costmap)")
+        elif key == "amcl":
+            out.note("error", where, "'amcl' is its own node, not a namespace of move_base: "
+                                     "put its parameters in a file of their own and load it "
+                                     "with --params FILE:amcl (<rosparam ns=\"/amcl\">)")
         elif isinstance(value, dict):
             spaces = ("global_costmap", "local_costmap") + PLANNER_NAMESPACES
             out.note("error", where, f"unknown namespace '{key}' in move_base"
@@ -410,6 +415,15 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
                 out.origins[(cm, key)] = where
         out.note("note", where, f"'{key}' at the move_base level: both costmaps use it unless "
                                 "they set their own (costmap_2d searches up the namespace)")
+    if outside_files:
+        used = [node_ns] + ([amcl_ns] if amcl_ns is not None else [])
+        stray = [(p, tree.origin(p)) for p, _ in tree.leaves()
+                 if not any(p[:len(u)] == u for u in used)
+                 and tree.origin(p).rpartition(":")[0] in outside_files]
+        if stray:
+            out.note("ignored", stray[0][1], "parameters outside the move_base and amcl nodes "
+                     "(no node here reads them): " + ", ".join(
+                         f"/{'/'.join(p)} ({os.path.basename(o)})" for p, o in stray))
     if amcl_ns is not None:
         amcl = tree.get(amcl_ns)
         if isinstance(amcl, dict):

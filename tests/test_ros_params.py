@@ -227,3 +227,18 @@ def test_params_namespaces_amcl_and_global_names(tmp_path):
     assert c.parameters["amcl"].odom_alpha1 == 0.1
     with pytest.raises(ConfigError, match=r"nothere.yaml: cannot read parameter file"):
         _load(str(tmp_path / "nothere.yaml"))
+
+
+def test_amcl_block_in_a_move_base_file_says_how_to_load_it(tmp_path):
+    f = _files(tmp_path, all="controller_frequency: 5.0\namcl: {min_particles: 200}\n")
+    with pytest.raises(ConfigError, match=r"all.yaml:2: 'amcl' is its own node, not a namespace "
+                                          r"of move_base: put its parameters in a file"):
+        _load(f["all"])
+    # loaded at the top, move_base's key is a global name nobody reads: listed, not dropped
+    c = _load(f"{f['all']}:/")
+    assert c.parameters["amcl"].min_particles == 200
+    assert c.move_base.controller_frequency == 20.0
+    ignored = [str(n) for n in c.report if n.level == "ignored"]
+    assert any(f"{f['all']}:1: ignored: parameters outside the move_base and amcl nodes "
+               "(no node here reads them): /controller_frequency (all.yaml:1)" in n
+               for n in ignored)
