@@ -201,13 +201,13 @@ class _Mapper:
                 self.put((cm, layer, k), v, s)
 
     def planner(self, p: Mapping[str, Any], src: Path_) -> None:
-        ids = p.get("planner_plugins", ["GridBased"])
+        ids = _names(p.get("planner_plugins"), "GridBased")
         for k, v in p.items():
-            s = src + (k,)
-            if k == "planner_plugins" or k in ids:
+            if k == "planner_plugins" or k in ids[:1]:
                 continue
-            self.ignore("planner_server", k)
-        for pid in ids if isinstance(ids, list) else []:
+            self.ignore("planner_server" + (" (only the first planner id is used)"
+                                            if k in ids else ""), k)
+        for pid in ids:
             body = p.get(pid) if isinstance(p.get(pid), Mapping) else {}
             s = src + (pid,)
             kind = str(body.get("plugin", ""))
@@ -237,7 +237,7 @@ class _Mapper:
             break  # the first planner id is the one the default trees use
 
     def controller(self, p: Mapping[str, Any], src: Path_) -> None:
-        ids = p.get("controller_plugins", ["FollowPath"])
+        ids = _names(p.get("controller_plugins"), "FollowPath")
         goal_checkers = p.get("goal_checker_plugins") or [p.get("goal_checker_plugin")]
         skip = {"controller_plugins", "goal_checker_plugins", "goal_checker_plugin",
                 "progress_checker_plugins", "progress_checker_plugin"}
@@ -246,8 +246,10 @@ class _Mapper:
             if k == "controller_frequency":
                 self.put(("move_base", "controller_frequency"), v, s)
                 self.put(("DWAPlannerROS", "controller_frequency"), v, s)
-            elif k in skip or k in (ids or []):
+            elif k in skip or k in ids[:1]:
                 continue
+            elif k in ids:
+                self.ignore("controller_server (only the first controller id is used)", k)
             elif k in goal_checkers and isinstance(v, Mapping):
                 for gk, gv in v.items():
                     if gk in ("xy_goal_tolerance", "yaw_goal_tolerance"):
@@ -259,7 +261,7 @@ class _Mapper:
             else:
                 self.ignore("controller_server", k)
         self.put(("move_base", "base_local_planner"), "dwa_local_planner/DWAPlannerROS", src)
-        pid = ids[0] if isinstance(ids, list) and ids else "FollowPath"
+        pid = ids[0]
         body = p.get(pid) if isinstance(p.get(pid), Mapping) else {}
         kind = str(body.get("plugin", ""))
         s = src + (pid,)
@@ -375,6 +377,15 @@ class _Mapper:
                 self.put(("safety", "sensor_timeout"), v, src + (k,))
             else:
                 self.ignore("collision_monitor", k)
+
+
+def _names(value: Any, default: str) -> list[str]:
+    """A Nav2 plugin id list (a list, or one name), the default id when absent or empty."""
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, list) and value:
+        return [str(v) for v in value]
+    return [default]
 
 
 def _nodes(doc: Any, path: Path_ = ()) -> list[tuple[str, Path_, Mapping[str, Any]]]:
