@@ -142,7 +142,8 @@ def simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: Wo
     for i, m in enumerate(world.moving):
         objects.append(MovingObstacle(tuple(m.waypoints), speed=m.speed, radius=m.radius,
                                       start_time=m.start_time, loop=m.loop, name=f"moving{i}"))
-    sim = Simulator(SimWorld(grid, objects), config.ns("sim"), clock, rng, start=start)
+    sim = Simulator(SimWorld(grid, objects, unknown_is_obstacle=world.unknown_solid),
+                    config.ns("sim"), clock, rng, start=start)
     sim.add_faults(world.faults)
     return sim
 

@@ -22,6 +22,15 @@ class Shape:
 
     kind: str
     values: tuple[float, ...]
+    name: str = ""          # events refer to a shape by name (remove, move a phantom)
+
+    def contains(self, x: float, y: float) -> bool:
+        """Whether the point (x, y) is inside (or on the edge of) the shape."""
+        if self.kind == "circle":
+            cx, cy, r = self.values
+            return (x - cx) ** 2 + (y - cy) ** 2 <= r * r
+        x0, y0, x1, y1 = self.values
+        return x0 <= x <= x1 and y0 <= y <= y1
 
     def polygon(self, n: int = 16) -> list[tuple[float, float]]:
         if self.kind == "box":
@@ -80,6 +89,7 @@ class World:
     moving: list[MovingObstacle] = field(default_factory=list)
     phantoms: list[tuple[Shape, str]] = field(default_factory=list)
     faults: list[dict[str, Any]] = field(default_factory=list)
+    unknown_solid: bool = False     # unknown map cells are solid in the simulated world
 
 
 def free_start(grid: OccupancyGrid) -> Pose2D:

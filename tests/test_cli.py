@@ -96,20 +96,23 @@ def test_scenario_check_and_broken_scenario(tmp_path, capsys):
     good.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #######\n    #S...G#\n    #######\n")
     code, out, err = run_cli(capsys, "scenario", "check", str(good))
     assert code == 0, err
-    assert "good.yaml: ok (good, 1 goal(s))" in out
+    assert "good.yaml: ok (good, 1 goal(s)" in out
     bad = tmp_path / "bad.yaml"
     bad.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #####\n    #S..#\n    #####\n"
                    "expect: {outcom: failed}\n")
-    code, _, err = run_cli(capsys, "scenario", "check", str(bad))
+    code, _, err = run_cli(capsys, "scenario", "check", str(bad), str(good))
     assert code == 1
-    assert err.strip() == (f"mission scenario: {bad}: goals: not given, and the map has 0 'G' "
-                           "markers (need exactly one)")
+    # every problem of the file, each with its line
+    assert f"{bad}:7: expect.outcom: unknown key 'outcom' (did you mean 'outcome'?)" in err
+    assert f"{bad}:1: goals: not given, and the map has 0 'G' markers (need exactly one)" in err
     bad.write_text("map:\n  resolution: 0.1\n  ascii: |\n    #####\n    #S.G#\n    #####\n"
                    "expect: {outcom: failed}\n")
-    code, _, err = run_cli(capsys, "scenario", "run", str(bad))
-    assert code == 1 and "expect: unknown key 'outcom' (did you mean 'outcome'?)" in err
-    code, _, err = run_cli(capsys, "scenario", "run", str(tmp_path / "empty_dir_none"))
-    assert code == 1 and "cannot read scenario" in err
+    # a broken scenario is that scenario's error outcome; the other one still runs
+    code, out, _ = run_cli(capsys, "scenario", "run", str(bad), str(good))
+    assert code == 1 and "expect.outcom: unknown key 'outcom' (did you mean 'outcome'?)" in out
+    assert "good          solved" in out or "good  " in out
+    code, out, _ = run_cli(capsys, "scenario", "run", str(tmp_path / "empty_dir_none"))
+    assert code == 1 and "cannot read scenario" in out
 
 
 # ------------------------------------------------------------------ run: errors before moving

@@ -46,7 +46,9 @@ def run(args: argparse.Namespace) -> int:
         progress.done()
         return fail("demo", str(e))
     progress.done()
-    rec = ", ".join(r.recoveries) or "none"
+    if r.outcome == "error":
+        return fail("demo", r.detail)
+    rec = ", ".join(x["name"] for x in r.recoveries) or "none"
     print(f"{r.outcome} in {r.sim_time:.1f} s simulated ({r.sim_time / max(r.wall_time, 1e-9):.0f}x "
           f"real time); recoveries: {rec}; collisions: {r.collisions}")
     print(out)

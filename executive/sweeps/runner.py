@@ -89,7 +89,7 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
         turning = turning_per_metre(poses)
         record.update(outcome=r.outcome, reason=r.reason or None, passed=int(r.passed),
                       solved=int(r.solved), sim_time_s=round(r.sim_time, 6),
-                      recoveries=list(r.recoveries), n_recoveries=len(r.recoveries),
+                      recoveries=r.recovery_types, n_recoveries=len(r.recoveries),
                       contacts=int(r.collisions), path_length_m=round(r.distance, 6),
                       min_clearance_m=None if clearance is None else round(clearance, 6),
                       turning_rad_per_m=None if turning is None else round(turning, 6),

@@ -9,6 +9,7 @@ fault starts or ends, an object appears); each chunk is one numba call. ``base``
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
@@ -339,6 +340,22 @@ class Simulator:
 
     def add_faults(self, faults: Iterable[Fault | Mapping[str, Any]]) -> list[Fault]:
         return [self.add_fault(f) for f in faults]
+
+    def end_faults(self, kind: str, t: float | None = None) -> int:
+        """End every fault of ``kind`` active at t (default: now) at t; returns how many."""
+        t = self.time if t is None else t
+        kept: list[Fault] = []
+        n = 0
+        for f in self._faults:
+            if f.kind == kind and f.active(t):
+                n += 1
+                if t > f.start:   # it did happen until t; one that starts at t never does
+                    kept.append(dataclasses.replace(f, duration=t - f.start))
+            else:
+                kept.append(f)
+        self._faults = kept
+        self._update_fault_vector(t)
+        return n
 
     def fault_active(self, kind: str, t: float | None = None) -> Fault | None:
         """The first fault of ``kind`` active at t (default: now), else None."""
