@@ -21,8 +21,8 @@ from typing import Any, Callable, Iterable, Mapping
 
 from navcore.params import Param, ParameterError, Parameters, suggest
 from navcore.safe_read import parse_yaml
-from executive.ros_params import (COSTMAP_IGNORED, COSTMAP_LAYER_IGNORED, LENIENCY, Note,
-                                  ParamsError, read_yaml)
+from executive.ros_params import (COSTMAP_IGNORED, COSTMAP_LAYER_IGNORED, COSTMAP_NO_EFFECT,
+                                  LENIENCY, SOURCE_NO_EFFECT, Note, ParamsError, read_yaml)
 
 
 class ConfigError(ValueError):
@@ -372,7 +372,38 @@ def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, A
             if key in out:
                 report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
                 out.pop(key)
+    _note_no_effect(out, ns, report)
     return out
+
+
+def _note_no_effect(body: Mapping[str, Any], ns: str, report: _Report) -> None:
+    """One "ignored" note listing the frame, topic and publishing keys of a costmap (and of its
+    observation sources) that are accepted but change nothing here."""
+    found = [k for k in body if k in COSTMAP_NO_EFFECT]
+    first = (ns, found[0]) if found else None
+    for layer, lbody in body.items():
+        if not isinstance(lbody, Mapping):
+            continue
+        sources = lbody.get("observation_sources")
+        names = sources.split() if isinstance(sources, str) else []
+        for src in names:
+            sbody = lbody.get(src)
+            if isinstance(sbody, Mapping):
+                for k in sbody:
+                    if k in SOURCE_NO_EFFECT:
+                        found.append(f"{layer}/{src}/{k}")
+                        first = first or (ns, layer, src, k)
+    sources = body.get("observation_sources")   # pre-Hydro: sources at the top level
+    for src in sources.split() if isinstance(sources, str) else []:
+        sbody = body.get(src)
+        if isinstance(sbody, Mapping):
+            for k in sbody:
+                if k in SOURCE_NO_EFFECT:
+                    found.append(f"{src}/{k}")
+                    first = first or (ns, src, k)
+    if found and first is not None:
+        report.add("ignored", first, f"{ns}: frames, topics and publishing have no effect here "
+                   f"(components are wired directly, in one frame): {', '.join(found)}")
 
 
 def _drop(body: dict[str, Any], path: tuple) -> bool:

@@ -292,6 +292,13 @@ COSTMAP_LAYER_IGNORED = {"map_subscribe_transient_local": _TOPIC, "footprint_top
                          "transform_tolerance": "transforms are exact here",
                          "use_sim_time": "time is the Clock's"}
 
+# Keys the costmap tables accept (so ROS files load) that change nothing here: listed per costmap
+# in one "ignored" note. Top level, then an obstacle source's.
+COSTMAP_NO_EFFECT = ("global_frame", "robot_base_frame", "transform_tolerance",
+                     "publish_frequency", "footprint_topic", "always_send_full_costmap",
+                     "use_sim_time")
+SOURCE_NO_EFFECT = ("sensor_frame", "topic")
+
 # move_base-level keys the costmaps find by searching up the namespace (costmap_2d searchParam):
 # footprint and robot_radius (makeFootprintFromParams), obstacle_range and raytrace_range (the
 # obstacle layer's sources).
