@@ -4,7 +4,8 @@ In the style of Nav2's behaviour-tree system tests: a kinematic robot that integ
 commanded velocity, costmaps that count clearings and answer footprint queries from a function,
 a planner and a controller that fail on the calls you choose, and ``run_tree``, the control loop
 in miniature (tick, integrate, advance the clock). Also usable as no-op components for
-benchmarks of tree overhead.
+benchmarks of tree overhead. The one set of component doubles: executive/noop.py builds its
+components from these and adds only a robot I/O.
 """
 
 from __future__ import annotations
@@ -18,8 +19,10 @@ import numpy as np
 from hw.interfaces import BaseEvents, BatteryState
 from navcore.clock import SimClock
 from navcore.costmap.costmap2d import Costmap2D
+from navcore.controllers.result import ControlResult, ControlStatus
 from navcore.params import Param, Parameters
-from navcore.types import Path, Pose2D, Twist, angle_diff, normalize_angle
+from navcore.planners.result import PlanReason, PlanResult
+from navcore.types import Path, Pose2D, Twist, angle_diff
 
 
 class FakeRobot:
@@ -91,13 +94,6 @@ class FakeCostmap:
         return self.resets + len(self.clear_outside_calls) + len(self.clear_inside_calls)
 
 
-@dataclass
-class PlanResult:
-    ok: bool
-    path: Path | None
-    reason: str = ""
-
-
 def straight_path(start: Pose2D, goal: Pose2D, step: float = 0.05) -> Path:
     """Poses from start to goal on a straight line, heading along it, goal heading last."""
     d = start.distance_to(goal)
@@ -122,10 +118,11 @@ class ScriptedPlanner:
     """Straight-line planner that fails on chosen calls (1-based call numbers) or always."""
 
     def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
-                 reason: str = "no_path", fail_always: bool = False) -> None:
+                 reason: str = "no_path", fail_always: bool = False, step: float = 0.05) -> None:
         self.fail_calls = set(fail_calls) if isinstance(fail_calls, (list, tuple, set, range)) \
             else fail_calls
         self.reason = reason
+        self.step = step  # spacing of the straight path's poses, m
         self.fail_always = fail_always
         self.calls = 0
         self.goals: list[Pose2D] = []
@@ -134,14 +131,8 @@ class ScriptedPlanner:
         self.calls += 1
         self.goals.append(goal)
         if self.fail_always or _in(self.calls, self.fail_calls):
-            return PlanResult(False, None, self.reason)
-        return PlanResult(True, straight_path(start, goal))
-
-
-@dataclass
-class ControlResult:
-    cmd: Twist
-    status: str
+            return PlanResult.failure(self.reason)
+        return PlanResult(True, straight_path(start, goal, self.step), PlanReason.NONE)
 
 
 class ScriptedController:
@@ -187,17 +178,17 @@ class ScriptedController:
         if path is not None:
             self.set_plan(path)
         if self.fail_always or _in(self.calls, self.fail_calls) or self.plan is None:
-            return ControlResult(Twist.zero(), "no_valid_trajectory")
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY)
         goal = self.plan.pose(len(self.plan) - 1)
         d = pose.distance_to(goal)
         if d <= self.tol:
             self._reached = True
-            return ControlResult(Twist.zero(), "goal_reached")
+            return ControlResult(Twist.zero(), ControlStatus.GOAL_REACHED)
         err = angle_diff(math.atan2(goal.y - pose.y, goal.x - pose.x), pose.theta)
         wz = max(-self.max_vel_theta, min(self.max_vel_theta, 2.0 * err))
         vx = self.max_vel_x * max(0.0, math.cos(err)) if abs(err) < 0.8 else 0.0
         vx = min(vx, d / 0.05 * 0.5)
-        return ControlResult(Twist(vx, 0.0, wz), "following")
+        return ControlResult(Twist(vx, 0.0, wz), ControlStatus.FOLLOWING)
 
 
 DWA_LIKE = (Param("path_distance_bias", 32.0, float, "weight of staying on the path", 0.0),
@@ -255,16 +246,15 @@ def run_tree(tree: Any, world: World, max_ticks: int = 5000,
 
 
 __all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World",
-           "NoopPlanner", "NoopController",
-           "run_tree", "straight_path", "PlanResult", "ControlResult", "DWA_LIKE",
-           "normalize_angle"]
+           "NoopPlanner", "NoopController", "run_tree", "straight_path", "DWA_LIKE"]
 
 
 class NoopPlanner:
     """Returns the same straight path every call: planning costs nothing (tree benchmarks)."""
 
     def __init__(self, length: float = 5.0) -> None:
-        self._result = PlanResult(True, straight_path(Pose2D(), Pose2D(length, 0.0, 0.0)))
+        self._result = PlanResult(True, straight_path(Pose2D(), Pose2D(length, 0.0, 0.0)),
+                                  PlanReason.NONE)
         self.calls = 0
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
@@ -276,7 +266,7 @@ class NoopController:
     """Always "following" with one fixed command (tree benchmarks)."""
 
     def __init__(self) -> None:
-        self._result = ControlResult(Twist(0.2, 0.0, 0.0), "following")
+        self._result = ControlResult(Twist(0.2, 0.0, 0.0), ControlStatus.FOLLOWING)
         self.calls = 0
 
     def set_plan(self, path: Path) -> None:

@@ -1,104 +1,21 @@
-"""No-op components and a kinematic robot: the executive and trees without any real algorithm.
+"""A kinematic robot (a RobotIO) and no-op components: the executive and trees without any real
+algorithm.
 
 Used by ``bench/bench_executive.py`` to measure pure tree + executive overhead, and by tests that
-check a tree's control flow without planners, controllers or a simulator. Each component does
-the least that keeps the contract honest (a planner returns a straight line, a controller drives
-toward the end of it), so trees run their real paths to success.
+check a tree's control flow without planners, controllers or a simulator. The components are
+behaviors.testing's doubles (a planner returning a straight line, a controller driving toward
+its end), so trees run their real paths to success.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
+from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner
 from hw.interfaces import BaseEvents
-from navcore.costmap.costmap2d import Costmap2D
-from navcore.types import LaserScan, Odometry, Path, Pose2D, Twist
-
-
-@dataclass(slots=True)
-class StraightPlan:
-    ok: bool
-    path: Path | None
-    reason: str = ""
-
-
-_STEPS = np.linspace(0.0, 1.0, 11)  # fractions of the way along a straight plan
-
-
-class StraightLinePlanner:
-    """A planner that returns the straight segment start -> goal (11 poses)."""
-
-    def __init__(self) -> None:
-        self.calls = 0
-
-    def make_plan(self, start: Pose2D, goal: Pose2D) -> StraightPlan:
-        self.calls += 1
-        poses = np.empty((len(_STEPS), 3))
-        poses[:, 0] = start.x + _STEPS * (goal.x - start.x)
-        poses[:, 1] = start.y + _STEPS * (goal.y - start.y)
-        poses[:, 2] = goal.theta
-        return StraightPlan(True, Path(poses))
-
-
-@dataclass(slots=True)
-class Control:
-    cmd: Twist
-    status: str
-
-
-class PursuitController:
-    """Turns toward the last pose of the plan and drives; goal reached within 0.1 m."""
-
-    def __init__(self) -> None:
-        self.goal: Pose2D | None = None
-        self._reached = False
-        self.calls = 0
-
-    def set_plan(self, path: Path) -> None:
-        self.goal = path.pose(len(path) - 1) if len(path) else None
-
-    def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None) -> Control:
-        self.calls += 1
-        if path is not None and len(path):
-            self.set_plan(path)
-        if self.goal is None:
-            return Control(Twist(), "no_plan")
-        if pose.distance_to(self.goal) < 0.1:
-            self._reached = True
-            return Control(Twist(), "goal_reached")
-        err = math.atan2(self.goal.y - pose.y, self.goal.x - pose.x) - pose.theta
-        err = math.atan2(math.sin(err), math.cos(err))
-        return Control(Twist(0.5 if abs(err) < 0.4 else 0.0, 0.0, max(-1.5, min(1.5, 2 * err))),
-                       "following")
-
-    def is_goal_reached(self) -> bool:
-        return self._reached
-
-    def reset(self) -> None:
-        self._reached = False
-
-
-class FreeCostmap:
-    """A CostmapHandle over an all-free grid; clearing does nothing."""
-
-    def __init__(self, size: int = 200, resolution: float = 0.05) -> None:
-        self.costmap = Costmap2D(size, size, resolution, -size * resolution / 2,
-                                 -size * resolution / 2)
-
-    def reset_layers(self) -> None:
-        pass
-
-    def clear_outside(self, x: float, y: float, reset_distance: float) -> None:
-        pass
-
-    def clear_inside(self, x: float, y: float, reset_distance: float) -> None:
-        pass
-
-    def footprint_cost(self, x: float, y: float, theta: float) -> int:
-        return 0
+from navcore.types import LaserScan, Odometry, Pose2D, Twist
 
 
 # Odometry is frozen and these are never written: one read-only pair serves every message.
@@ -173,10 +90,10 @@ def noop_components() -> dict:
     """The ``tree.setup`` components, all no-ops (see the module docstring)."""
     from executive.config import config_from_mapping
     return {
-        "global_costmap": FreeCostmap(),
-        "local_costmap": FreeCostmap(),
-        "planners": {"GridBased": StraightLinePlanner()},
-        "controllers": {"FollowPath": PursuitController()},
+        "global_costmap": FakeCostmap(size_m=10.0, origin=-5.0),
+        "local_costmap": FakeCostmap(size_m=10.0, origin=-5.0),
+        "planners": {"GridBased": ScriptedPlanner(step=0.3)},
+        "controllers": {"FollowPath": ScriptedController(max_vel_theta=1.5)},
         "localizer": None,
         "parameters": config_from_mapping({}, "<noop>").all_parameters(),
     }
