@@ -392,7 +392,7 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
         elif key in SEARCHED_BY_COSTMAPS:
             searched[key] = (value, where)
         elif key == "recovery_behaviors":
-            out.note("note", where, _recovery_note(value))
+            out.note("note", where, _recovery_note(value, node))
         elif key in recovery_names:
             out.note("ignored", where, f"'{key}': parameters of a move_base recovery behaviour; "
                                        "recoveries are tree nodes here (see docs/ros-users.md)")
@@ -439,14 +439,33 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
     return out
 
 
-def _recovery_note(value: Any) -> str:
+def _recovery_note(value: Any, node: Mapping[str, Any]) -> str:
+    """What the recovery list is here; when every entry has a node, the list as the recovery
+    subtree to put in a tree (their namespaces' reset_distance carried over)."""
     if not isinstance(value, list):
         return "'recovery_behaviors' is move_base's recovery list; recoveries are tree nodes here"
-    names = []
+    names, nodes = [], []
     for r in value:
-        if isinstance(r, Mapping):
-            t = str(r.get("type", ""))
-            names.append(f"{r.get('name')} ({t} -> {RECOVERY_TREE_NODES.get(t, 'no node')})")
-    return ("'recovery_behaviors' is move_base's recovery list: in navbt recoveries are tree "
+        if not isinstance(r, Mapping):
+            nodes = None
+            continue
+        name, kind = str(r.get("name")), str(r.get("type", ""))
+        node_type = RECOVERY_TREE_NODES.get(kind, "no node")
+        names.append(f"{name} ({kind} -> {node_type})")
+        params = node.get(name) if isinstance(node.get(name), Mapping) else {}
+        if nodes is None or node_type in ("no node", "(none)"):
+            nodes = None
+        elif node_type == "Spin":
+            nodes.append(f"Spin: {{name: {name}, spin_dist: 6.28}}")
+        else:
+            dist = params.get("reset_distance", 3.0)
+            nodes.append(f"ClearCostmapExceptRegion: {{name: {name}, costmap: both, "
+                         f"reset_distance: {dist}}}")
+    text = ("'recovery_behaviors' is move_base's recovery list: in navbt recoveries are tree "
             "nodes, so this list is not used; trees/move_base.yaml runs move_base's default "
             "order as a tree. Listed: " + ", ".join(names))
+    if nodes:
+        text += ("; as the recovery subtree of trees/move_base.yaml (MoveBaseRecoveries): "
+                 "RoundRobin: {name: RecoveryBehaviors, wrap_around: false, children: ["
+                 + ", ".join(f"{{{n}}}" for n in nodes) + "]}")
+    return text

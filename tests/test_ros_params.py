@@ -166,6 +166,9 @@ def test_clamps_ignored_keys_and_every_error_at_once(tmp_path):
                for w in notes["ignored"])
     assert any(f"{f['mb']}:2: note: 'recovery_behaviors'" in w and "trees" in w
                and "rotate_recovery (rotate_recovery/RotateRecovery -> Spin)" in w
+               and "children: [{ClearCostmapExceptRegion: {name: conservative_reset, costmap: "
+                   "both, reset_distance: 3.0}}, {Spin: {name: rotate_recovery, spin_dist: "
+                   "6.28}}]}" in w
                for w in notes["note"])
     assert any(f"{f['mb']}:5: ignored: 'conservative_reset'" in w for w in notes["ignored"])
     assert any(f"{f['mb']}:16: note: local_costmap: layer namespace 'static' is not in "
@@ -242,3 +245,29 @@ def test_amcl_block_in_a_move_base_file_says_how_to_load_it(tmp_path):
     assert any(f"{f['all']}:1: ignored: parameters outside the move_base and amcl nodes "
                "(no node here reads them): /controller_frequency (all.yaml:1)" in n
                for n in ignored)
+
+
+def test_recovery_list_as_a_tree_loads(tmp_path):
+    from executive.loading import load_tree_file
+    f = _files(tmp_path, mb="""\
+        recovery_behaviors:
+          - {name: reset, type: clear_costmap_recovery/ClearCostmapRecovery}
+          - {name: turn, type: rotate_recovery/RotateRecovery}
+        reset: {reset_distance: 2.0}
+        """)
+    c = _load(f["mb"])
+    note = next(n.text for n in c.report if "'recovery_behaviors'" in n.text)
+    subtree = note.split("(MoveBaseRecoveries): ", 1)[1]
+    tree = tmp_path / "recoveries.yaml"
+    tree.write_text(f"main_tree: R\ntrees:\n  R:\n    {subtree}\n")
+    root = load_tree_file(tree, namespace="/recovery_list").root
+    kids = {n.name: n for n in root.iterate()}
+    assert type(kids["reset"]).__name__ == "ClearCostmapExceptRegion"
+    assert kids["reset"].get_input("reset_distance") == 2.0
+    assert type(kids["turn"]).__name__ == "Spin"
+    # a type with no node: no subtree offered
+    f = _files(tmp_path, mb2="recovery_behaviors: [{name: slow, type: "
+                             "move_slow_and_clear/MoveSlowAndClear}]\n")
+    c = _load(f["mb2"])
+    note = next(n.text for n in c.report if "'recovery_behaviors'" in n.text)
+    assert "MoveBaseRecoveries" not in note and "slow (move_slow_and_clear/MoveSlowAndClear" in note
