@@ -75,7 +75,7 @@ class CostmapHandle(Protocol):
 class PlanResultLike(Protocol):
     ok: bool
     path: Path | None
-    reason: str  # "" when ok, else e.g. "start_occupied", "goal_occupied", "no_path", ...
+    reason: str  # navcore.planners.result.PlanReason (or its text): "" when ok, "no_path", ...
 
 
 class Planner(Protocol):
@@ -85,7 +85,7 @@ class Planner(Protocol):
 
 class ControlResultLike(Protocol):
     cmd: Twist
-    status: str  # "following", "goal_reached", "no_valid_trajectory", "rotating_to_goal", ...
+    status: str  # navcore.controllers.result.ControlStatus (or its text): "following", ...
 
 
 class Controller(Protocol):

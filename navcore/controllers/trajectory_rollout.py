@@ -14,6 +14,7 @@ holonomic_robot true), with the node-only prune_plan true and yaw_goal_tolerance
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,21 @@ from navcore.controllers.base import LocalPlannerBase
 from navcore.controllers.map_grid import densify_plan, distance_grid, plan_cells
 from navcore.controllers.result import ControlResult, ControlStatus, describe_rejections
 from navcore.controllers.rollout import RAMPED_FROM_CURRENT, simulate
+
+@dataclass(frozen=True)
+class RolloutCycle:
+    """What one cycle's scoring reads: the costmap window, the critics' weights (``_weights``),
+    the distance grids from the local plan and from its end, and that end."""
+
+    costs: np.ndarray
+    ox: float
+    oy: float
+    res: float
+    weights: np.ndarray
+    path: np.ndarray
+    goal: np.ndarray
+    final_goal: tuple[float, float]
+
 
 TR_PARAMS = (
     Param("acc_lim_x", 2.5, float, "x acceleration limit (m/s^2)", min=0.0),
@@ -315,6 +331,8 @@ class TrajectoryPlanner(LocalPlannerBase):
 
     # --- one cycle ----------------------------------------------------------------------------
     def _weights(self) -> np.ndarray:
+        """The critics' scales, in the kernels' order: path, goal, occdist (ROS's pdist_scale,
+        gdist_scale, occdist_scale; the first two per metre with meter_scoring)."""
         p = self._p()
         w = np.array([p.path_distance_bias, p.goal_distance_bias, p.occdist_scale])
         return w * self.costmap.resolution if p.meter_scoring else w
@@ -328,14 +346,13 @@ class TrajectoryPlanner(LocalPlannerBase):
                                         "costmap around the robot")
         costs = self._costs()
         cm = self.costmap
-        ctx = dict(costs=costs, ox=cm.origin_x, oy=cm.origin_y, res=cm.resolution,
-                   weights=self._weights())
         cells = plan_cells(costs, cm.origin_x, cm.origin_y, cm.resolution,
                            densify_plan(local, cm.resolution))
         inside = footprint_cells(cm, self.footprint, pose)
-        ctx["path"] = distance_grid(costs, cells, inside)
-        ctx["goal"] = distance_grid(costs, cells[-1:], inside)
-        ctx["final_goal"] = (float(local[-1, 0]), float(local[-1, 1]))
+        ctx = RolloutCycle(costs, cm.origin_x, cm.origin_y, cm.resolution, self._weights(),
+                           distance_grid(costs, cells, inside),
+                           distance_grid(costs, cells[-1:], inside),
+                           (float(local[-1, 0]), float(local[-1, 1])))
         gx, gy, gth = (float(v) for v in local[-1])
         if self._xy_latch or math.hypot(gx - pose.x, gy - pose.y) <= p.xy_goal_tolerance:
             if p.latch_xy_goal_tolerance:
@@ -344,7 +361,7 @@ class TrajectoryPlanner(LocalPlannerBase):
             return self._at_goal(pose, velocity, goal, ctx)
         return self._follow(pose, velocity, ctx)
 
-    def _samples(self, pose: Pose2D, velocity: Twist, ctx: dict[str, Any]
+    def _samples(self, pose: Pose2D, velocity: Twist, ctx: RolloutCycle
                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
         """createTrajectories' samples in its order: (samples (K, 3), group per sample, the
         unlimited in-place yaw rates, dvtheta). Groups: 0 vx x vtheta, 1 forward strafe,
@@ -352,7 +369,7 @@ class TrajectoryPlanner(LocalPlannerBase):
         p = self._p()
         vx, vth = velocity.vx, velocity.wz
         max_x = p.max_vel_x
-        fx, fy = ctx["final_goal"]
+        fx, fy = ctx.final_goal
         max_x = min(max_x, math.hypot(fx - pose.x, fy - pose.y) / p.sim_time)
         span = 1.0 / p.controller_frequency if p.dwa else p.sim_time
         hi_x = max(min(max_x, vx + p.acc_lim_x * span), p.min_vel_x)
@@ -400,15 +417,15 @@ class TrajectoryPlanner(LocalPlannerBase):
                              RAMPED_FROM_CURRENT, 0.0)
         return pts, steps
 
-    def _cost(self, pts: np.ndarray, steps: np.ndarray, k: int, ctx: dict[str, Any],
+    def _cost(self, pts: np.ndarray, steps: np.ndarray, k: int, ctx: RolloutCycle,
               base: float = 0.0, budget: float = math.inf) -> float:
         """Cost of trajectory k; above ``budget`` it may stop early with a lower bound."""
-        return float(rollout_cost(pts, k, int(steps[k]), ctx["costs"], ctx["ox"], ctx["oy"],
-                                  ctx["res"], self.footprint, ctx["path"], ctx["goal"],
-                                  ctx["weights"], base, budget))
+        return float(rollout_cost(pts, k, int(steps[k]), ctx.costs, ctx.ox, ctx.oy,
+                                  ctx.res, self.footprint, ctx.path, ctx.goal,
+                                  ctx.weights, base, budget))
 
     def _ahead_goal_dists(self, pts: np.ndarray, steps: np.ndarray, ks: np.ndarray,
-                          ctx: dict[str, Any]) -> np.ndarray:
+                          ctx: RolloutCycle) -> np.ndarray:
         """Goal-grid values ``heading_lookahead`` ahead of the ends of trajectories ``ks``
         (inf where that point is off the map)."""
         end = pts[ks, steps[ks] - 1]
@@ -421,10 +438,10 @@ class TrajectoryPlanner(LocalPlannerBase):
         mx = np.where(ok, (x - cm.origin_x) / cm.resolution, 0).astype(np.int64)
         my = np.where(ok, (y - cm.origin_y) / cm.resolution, 0).astype(np.int64)
         ok &= (mx < cm.size_x) & (my < cm.size_y)
-        out[ok] = ctx["goal"][my[ok], mx[ok]]
+        out[ok] = ctx.goal[my[ok], mx[ok]]
         return out
 
-    def find_best(self, pose: Pose2D, velocity: Twist, ctx: dict[str, Any]
+    def find_best(self, pose: Pose2D, velocity: Twist, ctx: RolloutCycle
                   ) -> tuple[int, float, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """findBestPath: (chosen index or -1, its cost, samples, points, steps, scores), with
         the latch and escape bookkeeping of createTrajectories."""
@@ -435,17 +452,17 @@ class TrajectoryPlanner(LocalPlannerBase):
         best, best_cost = -1, -1.0
         main = np.flatnonzero(group <= 1)
         if len(main):
-            sc, b = best_rollout(pts[main], steps[main], ctx["costs"], ctx["ox"], ctx["oy"],
-                                 ctx["res"], self.footprint, ctx["path"], ctx["goal"],
-                                 ctx["weights"], self.exhaustive)
+            sc, b = best_rollout(pts[main], steps[main], ctx.costs, ctx.ox, ctx.oy,
+                                 ctx.res, self.footprint, ctx.path, ctx.goal,
+                                 ctx.weights, self.exhaustive)
             scores[main] = sc
             if b >= 0:
                 best, best_cost = int(main[b]), float(sc[b])
         heading_dist = math.inf
         rest = np.flatnonzero(group >= 2)
-        lb, bound, base = lower_bounds(pts[rest], steps[rest], ctx["costs"], ctx["ox"],
-                                       ctx["oy"], ctx["res"], ctx["path"], ctx["goal"],
-                                       ctx["weights"])
+        lb, bound, base = lower_bounds(pts[rest], steps[rest], ctx.costs, ctx.ox,
+                                       ctx.oy, ctx.res, ctx.path, ctx.goal,
+                                       ctx.weights)
         scores[rest] = lb
         lower = dict(zip(rest.tolist(), zip(bound.tolist(), base.tolist())))
         # in-place rotations: prefer turning toward where the goal is closer
@@ -531,7 +548,7 @@ class TrajectoryPlanner(LocalPlannerBase):
         self._end_escape_if_far(pose)
         return best, cost, samples, pts, steps, scores
 
-    def _follow(self, pose: Pose2D, velocity: Twist, ctx: dict[str, Any]) -> ControlResult:
+    def _follow(self, pose: Pose2D, velocity: Twist, ctx: RolloutCycle) -> ControlResult:
         best, cost, samples, pts, steps, scores = self.find_best(pose, velocity, ctx)
         if cost < 0:
             return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
@@ -544,13 +561,13 @@ class TrajectoryPlanner(LocalPlannerBase):
                              pts[best, :steps[best]].copy(), pts,
                              scores, samples, reason=f"{self.NAME}: {what}")
 
-    def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: dict[str, Any]) -> bool:
+    def _legal(self, pose: Pose2D, velocity: Twist, cmd: Twist, ctx: RolloutCycle) -> bool:
         """checkTrajectory: the ramped trajectory toward ``cmd`` has a non-negative cost."""
         pts, steps = self._rollout(pose, velocity, np.array([[cmd.vx, cmd.vy, cmd.wz]]))
         return self._cost(pts, steps, 0, ctx) >= 0
 
     def _at_goal(self, pose: Pose2D, velocity: Twist, goal: Pose2D,
-                 ctx: dict[str, Any]) -> ControlResult:
+                 ctx: RolloutCycle) -> ControlResult:
         p = self._p()
         if gc.yaw_reached(pose, goal, p.yaw_goal_tolerance):
             self._rotating_to_goal = False
