@@ -344,7 +344,7 @@ def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, A
     out = dict(body)
     plugins = out.get("plugins")
     if isinstance(plugins, (list, tuple)):
-        names = {str(p["name"]) if isinstance(p, Mapping) else str(p) for p in plugins}
+        names = {str(p.get("name", "")) if isinstance(p, Mapping) else str(p) for p in plugins}
         for key, value in body.items():
             if key in COSTMAP_IGNORED:
                 if key in ("static_map", "map_type"):

@@ -105,7 +105,8 @@ def _similarity(a: str, b: str) -> float:
 
 def suggest(name: str, known: Iterable[str]) -> str:
     """`` (did you mean 'x'?)`` for the closest known name, or an empty string."""
-    scored = [(_similarity(name, k), k) for k in known]
+    name = str(name)  # a YAML key may be a number
+    scored = [(_similarity(name, str(k)), str(k)) for k in known]
     scored = [sk for sk in scored if sk[0] >= 0.6]
     if not scored:
         return ""

@@ -205,7 +205,7 @@ class _Constructor(SafeConstructor):
     def construct_yaml_timestamp(self, node: yaml.ScalarNode) -> Any:
         try:
             return super().construct_yaml_timestamp(node)
-        except (ValueError, OverflowError, TypeError):
+        except (ValueError, OverflowError, TypeError, AttributeError):  # AttributeError: no match
             raise _BadValue(None, None, f"{node.value!r} is not a timestamp",
                                    node.start_mark) from None
 

@@ -154,3 +154,10 @@ def test_set_parameters_alias_bomb_is_refused(tmp_path: Path) -> None:
         "      child: {AlwaysSuccess: {}}\n"))
     with pytest.raises(TreeLoadError, match="more than 200000 nodes"):
         load_tree_file(p)
+
+
+@pytest.mark.parametrize("text", ["x: !!timestamp 2020-99", "? !!timestamp 1\n: 2",
+                                  "x: !!timestamp garbage"])
+def test_malformed_timestamps_are_clean_errors(text: str) -> None:
+    with pytest.raises(ReadError, match="f.yaml:1: bad value: .* is not a timestamp"):
+        parse_yaml(text, "f.yaml")
