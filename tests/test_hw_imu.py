@@ -199,9 +199,15 @@ def test_razor_corruption_outside_digits_is_rejected(ypr, gyro, data) -> None:
 
 
 def test_razor_driver_gate_refuses_a_yaw_jump() -> None:
-    d = RazorDriver("sim://razor", WallClock())       # not started: only the parser is used
-    ok = "#YPRAG=10.00,0.00,0.00,0.00,0.00,-256.00,0.00,0.00,-0.50"
-    assert d._parse(ok, 1.0).yaw == pytest.approx(math.radians(-10.0))
-    with pytest.raises(rc.RazorError, match="yaw jumped"):
-        d._parse(ok.replace("10.00", "40.00", 1), 1.02)   # 30 deg in 20 ms at 0.5 rad/s
-    assert d._parse(ok.replace("10.00", "10.50", 1), 1.04) is not None
+    from navcore.clock import SimClock
+    clock = SimClock(1.0)
+    d = RazorDriver("sim://razor", clock)       # not started: bytes are fed by hand
+    ok = "#YPRAG=10.00,0.00,0.00,0.00,0.00,-256.00,0.00,0.00,-0.50\r\n"
+    d._on_bytes(ok.encode())
+    assert d.delivered == 1 and d.imu().yaw == pytest.approx(math.radians(-10.0))
+    clock.advance(0.02)
+    d._on_bytes(ok.replace("10.00", "40.00", 1).encode())   # 30 deg in 20 ms at 0.5 rad/s
+    assert d.delivered == 1 and d.implausible == 1 and "yaw jumped" in d.last_error
+    clock.advance(0.02)
+    d._on_bytes(ok.replace("10.00", "10.50", 1).encode())
+    assert d.delivered == 2 and d.diagnostics()["implausible"] == 1

@@ -12,14 +12,15 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from collections import deque
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 import serial
 
 from hw.drivers import arduino_codec as ac
-from hw.drivers.serial_link import HandshakeError, SerialDriver, wire_deadline
+from hw.drivers.serial_link import HandshakeError, REPLY_WAIT, SerialDriver, wire_deadline
 from hw.interfaces import BaseEvents, BatteryState
 from navcore.clock import Clock
 from navcore.params import Param, Parameters
@@ -46,6 +47,11 @@ ARDUINO_PARAMS = (
 )
 
 
+def _two_ints(line: str) -> bool:
+    parts = line.split()
+    return len(parts) == 2 and all(p.lstrip("-").isdigit() for p in parts)
+
+
 class ArduinoBaseDriver(SerialDriver):
     """A ros_arduino_bridge base on ``url``. ``send`` never blocks."""
 
@@ -65,6 +71,7 @@ class ArduinoBaseDriver(SerialDriver):
         self._enc: tuple[int, int] | None = None
         self._enc_stamp = 0.0
         self._refused_in_row = 0
+        self._latency = 0.0        # the slowest reply seen (s), for the reply deadline
         self._pose = Pose2D()
         self._odom: Odometry | None = None
 
@@ -88,31 +95,35 @@ class ArduinoBaseDriver(SerialDriver):
         return self._sent
 
     # -- start-up ------------------------------------------------------------------------------
-    def _ask(self, port: serial.SerialBase, line: bytes, tries: int = 3) -> str:
+    def _ask(self, port: serial.SerialBase, line: bytes, accept: Callable[[str], bool],
+             tries: int = 3) -> str:
+        """Send ``line`` until a reply ``accept`` takes arrives; other lines (late replies to
+        an earlier session's requests, on a slow bridge) are skipped."""
         for _ in range(tries):
             port.write(line)
             dec = ac.LineDecoder(b"\r")
-            deadline = wire_deadline(0.3)
+            sent = time.monotonic()
+            deadline = wire_deadline(REPLY_WAIT)
             while self._waiting(deadline):
-                got = dec.feed(port.read(max(1, port.in_waiting)))
-                if got:
-                    return got[0]
+                for got in dec.feed(port.read(max(1, port.in_waiting))):
+                    if accept(got.strip()):
+                        # wire time, like the deadline: how slow this bridge answers
+                        self._latency = max(self._latency, time.monotonic() - sent)
+                        return got
         raise HandshakeError(f"no reply to {line!r}")
 
     def _handshake(self, port: serial.SerialBase) -> None:
+        self._latency = 0.0
         port.write(b"\r")                      # end whatever half command is in the buffer
         port.reset_input_buffer()
-        for _ in range(3):
-            reply = self._ask(port, ac.command("b"))
-            if reply.strip() == str(ac.BAUDRATE) or reply.strip().isdigit():
-                break
-        else:
-            raise HandshakeError(f"baud query answered {reply!r}")
+        self._ask(port, ac.command("b"), str.isdigit)
         p = self.params
+        is_ok = "OK".__eq__
         try:
-            ac.expect_ok(self._ask(port, ac.pid_command(p.Kp, p.Kd, p.Ki, p.Ko)))
-            ac.expect_ok(self._ask(port, ac.motor_command(0, 0)))
-            self._enc = self._sign(ac.parse_encoders(self._ask(port, ac.command("e"))))
+            self._ask(port, ac.pid_command(p.Kp, p.Kd, p.Ki, p.Ko), is_ok)
+            self._ask(port, ac.motor_command(0, 0), is_ok)
+            self._enc = self._sign(ac.parse_encoders(self._ask(port, ac.command("e"),
+                                                               _two_ints)))
         except ac.ArduinoError as e:
             raise HandshakeError(str(e)) from None
         self._enc_stamp = self.clock.now()
@@ -131,7 +142,10 @@ class ArduinoBaseDriver(SerialDriver):
     def _on_tick(self, port: serial.SerialBase) -> None:
         now = self.clock.now()
         p = self.params
-        if self._pending and now - self._pending[0][1] > 2.0 / p.base_controller_rate:
+        # a reply is given up on after twice the device's own latency (measured), at least two
+        # poll periods, at most REPLY_WAIT: a slow bridge still works, a lost reply costs little
+        wait = min(REPLY_WAIT, max(2.0 / p.base_controller_rate, 2.0 * self._latency + 0.05))
+        if self._pending and now - self._pending[0][1] > wait:
             self._reject(f"no reply to a '{self._pending[0][0]}' request")
             self._pending.clear()              # a reply went missing: start afresh
             self._lines.reset()
@@ -142,7 +156,12 @@ class ArduinoBaseDriver(SerialDriver):
             cmd = Twist()
         targets = self._sign(self.geometry.wheel_targets(cmd.vx, cmd.wz))
         urgent = targets != self._sent and targets == (0, 0)    # stops do not wait for a poll
-        if (now < self._next_poll and not urgent) or self._pending:
+        if urgent:              # nor for the replies still due: a stop goes out at once
+            port.write(ac.motor_command(*targets))
+            self._pending.append(("ok", now))
+            self._sent = targets
+            return
+        if now < self._next_poll or self._pending:
             return
         self._next_poll = now + 1.0 / p.base_controller_rate
         port.write(ac.motor_command(*targets))
@@ -159,10 +178,12 @@ class ArduinoBaseDriver(SerialDriver):
             if not self._pending:
                 self._reject(f"unsolicited reply {line!r}")
                 continue
-            kind, _ = self._pending.popleft()
+            kind, asked = self._pending.popleft()
+            self._latency = max(self.clock.now() - asked, 0.9 * self._latency)
             try:
                 if kind == "ok":
                     ac.expect_ok(line)
+                    self.mark_valid()          # an answer is a sign of life too
                 else:
                     self._take_encoders(self._sign(ac.parse_encoders(line)))
             except ac.ArduinoError as e:
@@ -182,8 +203,9 @@ class ArduinoBaseDriver(SerialDriver):
             limit = self.params.max_wheel_speed * max(dt, 1.0 / self.params.base_controller_rate) \
                 * 2.0 + 0.01
             if abs(dl) > limit or abs(dr) > limit:
-                self._refused_in_row += 1
-                raise ac.ArduinoError(f"encoder step {dl:.3f}/{dr:.3f} m exceeds {limit:.3f} m")
+                self._refused_in_row += 1     # no checksum: physics is the only check
+                self._implausible(f"encoder step {dl:.3f}/{dr:.3f} m exceeds {limit:.3f} m")
+                return
             ds, dth = (dl + dr) / 2.0, (dr - dl) / g.wheel_track
             mid = self._pose.theta + dth / 2.0
             self._pose = Pose2D(self._pose.x + ds * math.cos(mid),

@@ -15,13 +15,18 @@ import numpy as np
 import serial
 
 from hw.drivers import kobuki_codec as kc
-from hw.drivers.serial_link import HandshakeError, SerialDriver, wire_deadline
+from hw.drivers.serial_link import HandshakeError, REPLY_WAIT, SerialDriver, wire_deadline
 from hw.interfaces import BaseEvents, BatteryState
 from navcore.clock import Clock
 from navcore.params import Param, Parameters
 from navcore.types import Odometry, Twist
 
 # kobuki_node's parameter names and defaults.
+# What a Kobuki can do (0.7 m/s, 180 deg/s by its spec), with margin: a frame claiming more
+# got a corrupted encoder or heading past the XOR checksum.
+MAX_WHEEL_SPEED = 2.0   # m/s
+MAX_TURN_RATE = 6.0     # rad/s
+
 KOBUKI_PARAMS = (
     Param("cmd_vel_timeout", 0.6, float, "stop the base when no command came for this long (s)",
           0.01, 10.0),
@@ -44,6 +49,7 @@ class KobukiDriver(SerialDriver):
         super().__init__(url, clock, 115200, silence_timeout=0.5, name="kobuki")
         self._dec = kc.FrameDecoder()
         self._odo = kc.KobukiOdometry(self.params.use_imu_heading)
+        self._refused_in_row = 0
         self._odom: Odometry | None = None
         self._battery: BatteryState | None = None
         self._events = BaseEvents()
@@ -86,13 +92,14 @@ class KobukiDriver(SerialDriver):
         # frames already sent are all the handshake will get until the clock moves
         self._dec.reset()
         self._odo = kc.KobukiOdometry(self.params.use_imu_heading)
+        self._refused_in_row = 0
         self._sent = None
         port.write(kc.base_control_frame(0, 0))          # whatever ran before: stop first
         self.versions = {}
         self.feedback = None
         for _ in range(3):
             port.write(kc.request_extra_frame(0x01 | 0x02 | 0x08))
-            deadline = wire_deadline(0.15)
+            deadline = wire_deadline(REPLY_WAIT)
             while self._waiting(deadline):
                 self._take(port.read(max(1, port.in_waiting)))
                 if self.versions or (self.polling and self.feedback is not None):
@@ -114,6 +121,15 @@ class KobukiDriver(SerialDriver):
             except kc.KobukiError as e:
                 self._reject(str(e))
                 continue
+            why = self._odo.implausibility(fb, MAX_WHEEL_SPEED, MAX_TURN_RATE)
+            if why is not None:
+                self._refused_in_row += 1
+                if self._refused_in_row >= 3:     # the reference itself was bad
+                    self._odo.rebase(fb)
+                    self._refused_in_row = 0
+                self._implausible(why)
+                continue
+            self._refused_in_row = 0
             n += 1
             self._use(fb)
         self._reject_decoder_errors(before, self._dec.errors, self._dec.last_error)

@@ -250,11 +250,40 @@ class KobukiOdometry:
         self.pose = Pose2D()
         self.twist = Twist()
         self._last: BasicSensors | None = None
+        self._last_heading: int | None = None
         self._heading0: float | None = None
+
+    def implausibility(self, fb: Feedback, max_speed: float, max_rate: float) -> str | None:
+        """Why ``fb`` cannot follow the last frame (None when it can): each wheel moving faster
+        than ``max_speed`` m/s or the gyro heading turning faster than ``max_rate`` rad/s over
+        the frames' own time step (the XOR checksum misses two flipped bits in one column)."""
+        last = self._last
+        if last is None:
+            return None
+        dt = max(((fb.basic.timestamp_ms - last.timestamp_ms) & 0xFFFF) / 1000.0, 0.02)
+        for name, now, before in (("left", fb.basic.left_encoder, last.left_encoder),
+                                  ("right", fb.basic.right_encoder, last.right_encoder)):
+            d = abs(_wrap16(now - before)) * TICK_TO_RAD * WHEEL_RADIUS
+            if d > max_speed * dt + 0.005:
+                return f"{name} wheel moved {d:.3f} m in {dt:.3f} s"
+        if (fb.heading_cdeg is not None and self._last_heading is not None):
+            turn = abs(normalize_angle(math.radians((fb.heading_cdeg - self._last_heading)
+                                                    / 100.0)))
+            if turn > max_rate * dt + 0.02:
+                return f"heading turned {turn:.3f} rad in {dt:.3f} s"
+        return None
+
+    def rebase(self, fb: Feedback) -> None:
+        """Take ``fb`` as the new reference without moving (after repeated refusals)."""
+        self._last = fb.basic
+        if fb.heading_cdeg is not None:
+            self._last_heading = fb.heading_cdeg
 
     def update(self, fb: Feedback) -> tuple[Pose2D, Twist]:
         b = fb.basic
         last, self._last = self._last, b
+        if fb.heading_cdeg is not None:
+            self._last_heading = fb.heading_cdeg
         if last is None:
             if fb.heading_cdeg is not None:
                 self._heading0 = math.radians(fb.heading_cdeg / 100.0)

@@ -13,7 +13,7 @@ from typing import Any, Mapping
 import serial
 
 from hw.drivers import lms2xx_codec as lc
-from hw.drivers.serial_link import HandshakeError, SerialDriver, wire_deadline
+from hw.drivers.serial_link import HandshakeError, REPLY_WAIT, SerialDriver, wire_deadline
 from navcore.clock import Clock
 from navcore.params import Param, Parameters
 from navcore.types import LaserScan, Pose2D
@@ -30,7 +30,7 @@ LMS_PARAMS = (
     Param("frame_id", "laser", str, "frame of the published scans"),
 )
 
-REPLY_TIMEOUT = 0.5
+REPLY_TIMEOUT = REPLY_WAIT
 
 
 class Lms2xxDriver(SerialDriver):

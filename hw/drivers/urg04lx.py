@@ -15,7 +15,7 @@ from typing import Any, Mapping
 import serial
 
 from hw.drivers import scip
-from hw.drivers.serial_link import HandshakeError, SerialDriver, wire_deadline
+from hw.drivers.serial_link import HandshakeError, REPLY_WAIT, SerialDriver, wire_deadline
 from navcore.clock import Clock
 from navcore.params import Param, Parameters
 from navcore.types import LaserScan, Pose2D
@@ -34,7 +34,7 @@ URG_PARAMS = (
           choices=(19200, 38400, 57600, 115200, 250000, 500000, 750000)),
 )
 
-REPLY_TIMEOUT = 0.3     # urg_c uses about 140 ms; a loaded CI machine needs slack
+REPLY_TIMEOUT = REPLY_WAIT  # urg_c waits about 140 ms; a slow or loaded device needs more
 
 
 class Urg04lxDriver(SerialDriver):

@@ -14,7 +14,7 @@ import serial
 from hw.drivers import vectornav_codec as vc
 from hw.drivers.imu_stream import LineImuDriver
 from hw.drivers.lines import LineDecoder
-from hw.drivers.serial_link import HandshakeError, wire_deadline
+from hw.drivers.serial_link import HandshakeError, REPLY_WAIT, wire_deadline
 from navcore.clock import Clock
 from navcore.params import Param, Parameters
 from navcore.types import Imu, Pose2D
@@ -47,7 +47,7 @@ class VectorNavDriver(LineImuDriver):
         for _ in range(3):
             port.write(vc.write_register(reg, value))
             dec = LineDecoder(b"\n")
-            deadline = wire_deadline(0.3)
+            deadline = wire_deadline(REPLY_WAIT)
             while self._waiting(deadline):
                 for line in dec.feed(port.read(max(1, port.in_waiting))):
                     try:
@@ -58,6 +58,7 @@ class VectorNavDriver(LineImuDriver):
         raise HandshakeError(f"register {reg} write not confirmed")
 
     def _handshake(self, port: serial.SerialBase) -> None:
+        self._prev = None
         self._write_reg(port, 6, 0)
         self._write_reg(port, 7, self.params.async_output_rate)
         self._write_reg(port, 6, 14)
