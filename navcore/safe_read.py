@@ -66,7 +66,14 @@ def read_bytes(path: str | os.PathLike, *, limit: int = MAX_TEXT_BYTES, what: st
         if st.st_size > limit:
             raise error(f"{file}: {what} is {st.st_size} bytes, more than the limit of {limit}")
         with os.fdopen(fd, "rb", closefd=False) as f:
-            data = f.read(limit + 1)
+            # read() allocates what it is asked for: ask for the file's size (plus one byte,
+            # to notice a file that grew past the limit), not for the limit
+            data = f.read(min(limit, st.st_size) + 1)
+            while len(data) > st.st_size and len(data) <= limit:  # grew, or reports no size
+                more = f.read(min(1 << 20, limit + 1 - len(data)))
+                if not more:
+                    break
+                data += more
     except OSError as e:
         raise error(f"{file}: cannot read {what}: {e.strerror or e}") from None
     finally:
