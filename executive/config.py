@@ -372,6 +372,21 @@ def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, A
             if key in out:
                 report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
                 out.pop(key)
+        # a layer's keys when the costmap has no such layer (static_map false, no voxel type):
+        # costmap_2d's conversion does not move them, nothing reads them
+        unused = []
+        if not out.get("static_map", False):
+            unused += [k for k in ("map_topic", "unknown_cost_value", "lethal_cost_threshold")
+                       if k in out]
+        if out.get("map_type", "costmap") != "voxel":
+            unused += [k for k in ("origin_z", "z_resolution", "z_voxels", "mark_threshold",
+                                   "unknown_threshold", "publish_voxel_map") if k in out]
+        for key in unused:
+            out.pop(key)
+        if unused:
+            report.add("ignored", (ns, unused[0]), f"{ns}: {', '.join(unused)}: keys of a layer "
+                       "this costmap does not have (static_map / map_type), unused as in "
+                       "costmap_2d")
     _note_no_effect(out, ns, report)
     return out
 

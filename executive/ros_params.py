@@ -227,6 +227,8 @@ LENIENCY: dict[str, Leniency] = {
                  "pdist_scale": "path_distance_bias", "gdist_scale": "goal_distance_bias",
                  "acc_lim_th": "acc_lim_theta", "max_vel_rot": "max_vel_theta",
                  "min_vel_rot": "min_vel_theta"},
+        # base_local_planner's name, which the DWA does not read (PR2's DWA file has it)
+        misspelled={"vtheta_samples": "vth_samples"},
         clamps={"sim_time": (0.0, None), "sim_granularity": (0.0, None),
                 "angular_sim_granularity": (0.0, None), "path_distance_bias": (0.0, None),
                 "goal_distance_bias": (0.0, None), "occdist_scale": (0.0, None),
@@ -377,6 +379,8 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
     if isinstance(listed, list):
         recovery_names |= {str(r.get("name")) for r in listed if isinstance(r, Mapping)}
     searched: dict[str, tuple[Any, str]] = {}
+    sources = node.get("observation_sources")
+    stray_sources = set(sources.split()) if isinstance(sources, str) else set()
     for key, value in node.items():
         path = node_ns + (key,)
         where = tree.origin(path)
@@ -399,10 +403,17 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
         elif key in OTHER_PLANNERS:
             out.note("ignored", where, f"'{key}': parameters of a planner navbt does not have")
         elif key in COSTMAP_ONLY:
-            out.note("error", where, f"'{key}' is a costmap parameter, which move_base does "
-                                     "not read at its own level: load this file into a costmap "
-                                     "namespace (<rosparam ns=\"global_costmap\"> / "
-                                     f"--params FILE:local_costmap)")
+            # ROS silently does not read it here; a whole costmap file in the wrong place
+            # shows as one such warning per key
+            out.note("warning", where, f"'{key}' is a costmap parameter, which neither "
+                                       "move_base nor the costmaps read at this level (ROS "
+                                       "ignores it too; its value is not used): load it into a "
+                                       "costmap namespace (<rosparam ns=\"global_costmap\"> "
+                                       "/ --params FILE:local_costmap)")
+        elif key in stray_sources:
+            out.note("warning", where, f"'{key}' is an observation source of a costmap, not "
+                                       "read at this level (ROS ignores it too): load it with "
+                                       "its observation_sources into a costmap namespace")
         elif key == "amcl":
             out.note("error", where, "'amcl' is its own node, not a namespace of move_base: "
                                      "put its parameters in a file of their own and load it "
