@@ -324,11 +324,11 @@ def _lenient(ns: str, body: dict[str, Any], report: _Report) -> dict[str, Any]:
         return body
     out, found = LENIENCY[ns].apply(body)
     specs = {s.name: s for s in (specs_for(ns) or ())}
-    for level, key, text in found:
+    for kind, level, key, text in found:
         new = LENIENCY[ns].renamed.get(key)
-        if new is not None and (ns, key) in report.origins:
+        if kind == "renamed" and new is not None and (ns, key) in report.origins:
             report.origins.setdefault((ns, new), report.origins[(ns, key)])
-        if "clamped" in text and key in specs and key in body:
+        if kind == "clamped" and key in specs and key in body:
             try:
                 specs[key].check(out[key])
             except ParameterError:

@@ -131,28 +131,30 @@ class Leniency:
     ignored: Mapping[str, str] = field(default_factory=dict)
     misspelled: Mapping[str, str] = field(default_factory=dict)
 
-    def apply(self, values: Mapping[str, Any]) -> tuple[dict[str, Any], list[tuple[str, str, str]]]:
+    def apply(self, values: Mapping[str, Any]
+              ) -> tuple[dict[str, Any], list[tuple[str, str, str, str]]]:
         """``values`` with old names renamed, ignored names dropped and values clamped; plus
-        (level, name, message) for each change, level "warning" or "ignored"."""
+        (kind, level, name, message) for each change: kind "renamed", "ignored", "misspelled"
+        or "clamped", level "warning" or "ignored"."""
         out: dict[str, Any] = {}
-        notes: list[tuple[str, str, str]] = []
+        notes: list[tuple[str, str, str, str]] = []
         for name, value in values.items():
             if name in self.renamed:
                 new = self.renamed[name]
                 if new in values or new in out:
-                    notes.append(("warning", name, f"'{name}' is a deprecated name of '{new}', "
-                                  f"which is also given: '{name}' is ignored"))
+                    notes.append(("renamed", "warning", name, f"'{name}' is a deprecated name of "
+                                  f"'{new}', which is also given: '{name}' is ignored"))
                     continue
-                notes.append(("warning", name, f"'{name}' is deprecated: use '{new}' (the "
-                              f"value is used as '{new}')"))
+                notes.append(("renamed", "warning", name, f"'{name}' is deprecated: use "
+                              f"'{new}' (the value is used as '{new}')"))
                 name = new
             elif name in self.ignored:
-                notes.append(("ignored", name, f"'{name}': {self.ignored[name]}"))
+                notes.append(("ignored", "ignored", name, f"'{name}': {self.ignored[name]}"))
                 continue
             elif name in self.misspelled:
-                notes.append(("warning", name, f"'{name}' is not read (a misspelling of "
-                              f"'{self.misspelled[name]}'?): its value is not used, as in "
-                              "the original"))
+                notes.append(("misspelled", "warning", name, f"'{name}' is not read (a "
+                              f"misspelling of '{self.misspelled[name]}'?): its value is not "
+                              "used, as in the original"))
                 continue
             out[name] = value
         for name, (lo, hi) in self.clamps.items():
@@ -162,8 +164,8 @@ class Leniency:
             c = v if lo is None or v >= lo else type(v)(lo)
             c = c if hi is None or c <= hi else type(v)(hi)
             if c != v:
-                notes.append(("warning", name, f"'{name}' = {v!r} is clamped to {c!r}, as ROS "
-                              f"does (range {lo if lo is not None else '-inf'} .. "
+                notes.append(("clamped", "warning", name, f"'{name}' = {v!r} is clamped to "
+                              f"{c!r}, as ROS does (range {lo if lo is not None else '-inf'} .. "
                               f"{hi if hi is not None else 'inf'})"))
                 out[name] = c
         return out, notes
