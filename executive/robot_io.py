@@ -57,6 +57,11 @@ class HardwareIO:
     def in_collision(self) -> bool:
         return bool(self.base.events().bumper)
 
+    def diagnostics(self) -> dict[str, Any]:
+        """Each driver's health (frames delivered, rejected, implausible; last error)."""
+        return {role: d.diagnostics() for role, d in self.devices.items()
+                if callable(getattr(d, "diagnostics", None))}
+
     def close(self) -> None:
         from hw.devices import close_devices
         close_devices(self.devices)

@@ -82,6 +82,9 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     summary["faults"] = ex.trace.faults
     summary["errors"] = ex.trace.errors
     summary["overruns"] = ex.trace.overruns
+    diagnostics = getattr(ex.io, "diagnostics", None)   # real drivers: frames dropped and why
+    if callable(diagnostics):
+        summary["devices"] = diagnostics()
     summary["goals"] = [list(g) for g in ex.trace.goals]
     summary.update(extra or {})
     try:

@@ -132,3 +132,13 @@ def test_kobuki_driver_counts_implausible_frames() -> None:
     assert d.odometry().pose.x == x       # the jump never reached the odometry
     d._on_bytes(frame(1060, 130, 130))
     assert d.delivered == 3 and d.odometry().pose.x > x
+
+
+def test_hardware_io_reports_each_drivers_diagnostics() -> None:
+    from executive.robot_io import HardwareIO
+    clock = SimClock(1.0)
+    base, imu = KobukiDriver("sim://kobuki", clock), RazorDriver("sim://razor", clock)
+    imu._on_bytes(b"#YPRAG=1.0\r\n")              # a garbled line: rejected
+    diag = HardwareIO({"base": base, "imu": imu}).diagnostics()
+    assert set(diag) == {"base", "imu"}
+    assert diag["imu"]["rejected"] == 1 and diag["base"]["delivered"] == 0
