@@ -45,13 +45,15 @@ _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds e
 class Port(PortInformation):
     """A port whose numbers must lie in ``[low, high]`` (either bound optional).
 
-    Every number port (``float`` or ``int``) refuses NaN and infinity whatever its declaration
-    (``port_problem``); ``Port`` adds the range. Literals are checked when the tree loads, wired
+    Every number port (``float`` or ``int``) refuses NaN, and infinity unless it is declared
+    with ``finite=False`` or an infinite default (``port_problem``); ``Port`` adds the range.
+    Literals are checked when the tree loads, wired
     values on every read.
     """
 
     low: float | None = None
     high: float | None = None
+    finite: bool = True   # False: infinity means something (e.g. "no limit")
 
 
 def port_problem(info: PortInformation, value: Any) -> str | None:
@@ -65,7 +67,12 @@ def port_problem(info: PortInformation, value: Any) -> str | None:
             or not isinstance(value, (int, float)):
         return None
     if isinstance(value, float) and not math.isfinite(value):
-        return f"must be a finite number, got {value}"
+        default = info.default_value
+        # infinity means something where the port says so, or is declared with it as default
+        inf_allowed = not getattr(info, "finite", True) or (
+            isinstance(default, float) and math.isinf(default))
+        if math.isnan(value) or not inf_allowed:
+            return f"must be a finite number, got {value}"
     low, high = getattr(info, "low", None), getattr(info, "high", None)
     if low is not None and value < low:
         return f"must be >= {low:g}, got {value!r}"

@@ -64,3 +64,12 @@ def test_a_nan_on_the_blackboard_is_refused_when_read() -> None:
         assert node.get_input("wait_duration") == 2.0
     finally:
         py_trees.blackboard.Blackboard.storage.pop("/ports/how_long", None)
+
+
+def test_infinity_only_where_declared_meaningful() -> None:
+    from behaviors.base import PortInformation
+    no_limit = PortInformation(float, False, "m; inf = all", math.inf)
+    assert port_problem(no_limit, math.inf) is None
+    assert port_problem(no_limit, math.nan) is not None
+    assert port_problem(Port(float, False, "s", 1.0, finite=False), -math.inf) is None
+    assert port_problem(PortInformation(float, False, "s", 1.0), math.inf) is not None
