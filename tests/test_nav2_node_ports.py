@@ -431,3 +431,87 @@ def test_compute_route_and_extract_nodes():
     nograph.setup(**w.components())
     nograph.tick_once()
     assert nograph.status == F and storage["/cr3/e"] == 402
+
+
+class Scripted(Dummy):
+    """Nav2's RecoveryDummy: the next statuses in order, then the last one again."""
+
+    def __init__(self, name: str, statuses: list[Status]) -> None:
+        super().__init__(name)
+        self.script = list(statuses)
+
+    def update(self) -> Status:
+        if len(self.script) > 1:
+            return self.script.pop(0)
+        return self.script[0]
+
+
+def test_pipeline_sequence_failure():
+    """test/plugins/control/test_pipeline_sequence.cpp test_failure."""
+    a, b, c = Dummy("a"), Dummy("b"), Dummy("c")
+    ps = node("PipelineSequence", children=[a, b, c])
+    for statuses in ([F, S, S], [S, F, S], [S, S, F]):
+        for child, st in zip((a, b, c), statuses):
+            child.change(st)
+        assert tick(ps) == F
+        assert R not in (a.status, b.status, c.status)
+    a.change(S), b.change(S), c.change(R)
+    assert tick(ps) == R
+    a.change(F)
+    assert tick(ps) == F and c.status == I          # the running child is halted
+
+
+def test_pipeline_sequence_behavior():
+    """test_pipeline_sequence.cpp test_behavior: earlier children are re-ticked while a later
+    one runs; SUCCESS when the last succeeds."""
+    a, b, c = Dummy("a"), Dummy("b"), Dummy("c")
+    ps = node("PipelineSequence", children=[a, b, c])
+    a.change(R)
+    assert tick(ps) == R
+    a.change(S), b.change(R)
+    assert tick(ps) == R
+    a.change(R), b.change(S), c.change(R)
+    assert tick(ps) == R
+    a.change(R), b.change(S), c.change(S)
+    assert tick(ps) == S
+    assert R not in (a.status, b.status, c.status)
+
+
+def test_recovery_node_running_and_retries():
+    """test/plugins/control/test_recovery_node.cpp test_running, test_success_one_retry and
+    test_failure_one_retry (number_of_retries 1)."""
+    first, second = Dummy("first"), Dummy("second")
+    rn = node("RecoveryNode", children=[first, second], number_of_retries=1)
+    first.change(R)
+    assert tick(rn) == R
+    first.change(F), second.change(R)
+    assert tick(rn) == R
+    first, second = Scripted("first", [F, S]), Scripted("second", [S])
+    rn = node("RecoveryNode", children=[first, second], number_of_retries=1)
+    assert tick(rn) == S                            # fail, recover, retried in the same tick
+    assert R not in (first.status, second.status)
+    first, second = Scripted("first", [F]), Scripted("second", [F])
+    rn = node("RecoveryNode", children=[first, second], number_of_retries=1)
+    assert tick(rn) == F
+    first, second = Scripted("first", [F, F]), Scripted("second", [S])
+    rn = node("RecoveryNode", children=[first, second], number_of_retries=1)
+    assert tick(rn) == F                            # one recovery only
+
+
+def test_follow_path_writes_tracking_feedback_when_wired():
+    """test/plugins/action/test_follow_path_action.cpp (main): tracking_feedback is an output
+    of FollowPath; here it carries the cross-track and heading errors each tick."""
+    w = World()
+    w.robot.teleport(Pose2D(0.5, 0.2, 0.1))
+    n = node("FollowPath", world=w, path="{path}", tracking_feedback="{fb}")
+    bb_set(n, "path", path_of([0.1 * i for i in range(31)]))
+    assert tick(n) == R
+    fb = bb_get(n, "fb")
+    assert fb.current_path_index == 5
+    assert fb.position_tracking_error == pytest.approx(0.2)
+    assert fb.heading_tracking_error == pytest.approx(-0.1)
+    assert fb.remaining_path_length == pytest.approx(2.5)
+    plain = node("FollowPath", world=w, path="{path}")
+    bb_set(plain, "path", path_of([0.1 * i for i in range(31)]))
+    tick(plain)
+    assert bb_get(plain, "tracking_feedback") is None    # not wired: not computed
