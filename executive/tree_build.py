@@ -229,7 +229,8 @@ class Builder:
         self._visited.add(tree_id)
         return self._node(self.doc.trees[tree_id], scope, (*stack, tree_id))
 
-    def _node(self, spec: NodeSpec, scope: Scope, stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
+    def _node(self, spec: NodeSpec, scope: Scope,
+              stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
         if spec.type == SUBTREE:
             return self._subtree(spec, scope, stack)
         cls = self.classes.get(spec.type)
@@ -429,7 +430,8 @@ class Builder:
                              f"{value!r}{did_you_mean(str(value), choices[port])}", pv.where)
         return value
 
-    def _subtree(self, spec: NodeSpec, scope: Scope, stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
+    def _subtree(self, spec: NodeSpec, scope: Scope,
+                 stack: tuple[str, ...]) -> py_trees.behaviour.Behaviour:
         tid = spec.subtree_id
         if tid is None:
             self.errors.append(spec.error("needs 'id:' naming the tree to insert"))

@@ -70,7 +70,7 @@ class Where:
 
 @dataclass
 class PortValue:
-    """A port as written: a ``{key}`` reference or a literal (typed from YAML, a string from XML)."""
+    """A port as written: a ``{key}`` reference or a literal (typed from YAML, text from XML)."""
 
     raw: Any
     where: Where

@@ -4,7 +4,6 @@ and the dense path; the office map's shipped graph stays in free space; navcore.
 from __future__ import annotations
 
 import itertools
-import json
 import math
 from pathlib import Path
 

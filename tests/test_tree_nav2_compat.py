@@ -159,7 +159,8 @@ def test_round_trip_keeps_every_attribute_and_comment(tmp_path):
     t = load_xml(p)
     assert any("server_timeout" in note for note in t.ignored)
     text = to_yaml(t)
-    for piece in ("server_timeout: '150'", "service_name: local_costmap/clear_entirely_local_costmap",
+    for piece in ("server_timeout: '150'",
+                  "service_name: local_costmap/clear_entirely_local_costmap",
                   "server_name: follow_path", "# clear the local costmap first", "# file comment",
                   "nav2_distro: jazzy"):
         assert piece in text

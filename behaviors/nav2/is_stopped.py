@@ -7,9 +7,9 @@ from behaviors.conditions.condition import Condition
 
 
 class IsStopped(Condition):
-    """SUCCESS once every velocity component (vx, vy, wz) has stayed below
-    ``velocity_threshold`` for ``duration_stopped`` milliseconds (Nav2's unit); RUNNING while it is below but not
-    yet for that long; FAILURE when the robot moves (the count restarts). (Nav2 Kilted
+    """SUCCESS once every velocity component (vx, vy, wz) has stayed below ``velocity_threshold``
+    for ``duration_stopped`` milliseconds (Nav2's unit); RUNNING while it is below but not yet
+    for that long; FAILURE when the robot moves (the count restarts). (Nav2 Kilted
     ``IsStopped``; unlike most conditions it can be RUNNING.)"""
 
     INPUT_PORTS = {

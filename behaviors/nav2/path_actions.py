@@ -38,9 +38,10 @@ class TruncatePathLocal(Leaf):
     """Write the part of ``input_path`` around the robot: ``distance_backward`` m behind the
     path pose closest to it and ``distance_forward`` m ahead (negative: to the end), measured
     along the path. The closest pose weighs heading by ``angular_distance_weight`` (m/rad);
-    with a finite ``max_robot_pose_search_dist`` the search starts at the previous closest
-    pose and covers that much path (it restarts when the path changes). ``pose`` overrides the
-    robot pose. SUCCESS (an empty path gives an empty one). (Nav2 ``TruncatePathLocal``.)"""
+    with ``max_robot_pose_search_dist`` >= 0 (Nav2: finite) the search starts at the previous
+    closest pose and covers that much path (it restarts when the path changes). ``pose``
+    overrides the robot pose. SUCCESS (an empty path gives an empty one). (Nav2
+    ``TruncatePathLocal``.)"""
 
     INPUT_PORTS = {
         "input_path": PortInformation(Path, True, "original path"),
@@ -54,8 +55,8 @@ class TruncatePathLocal(Leaf):
         "angular_distance_weight": PortInformation(float, False, "weight of heading in the "
                                                    "closest-pose distance, m/rad", 0.0),
         "max_robot_pose_search_dist": PortInformation(float, False, "path length searched "
-                                                      "for the closest pose, m; inf = all",
-                                                      math.inf),
+                                                      "for the closest pose, m; < 0 = all "
+                                                      "(Nav2: infinity)", -1.0),
     }
     OUTPUT_PORTS = {"output_path": PortInformation(Path, True, "the path around the robot")}
 
@@ -72,7 +73,9 @@ class TruncatePathLocal(Leaf):
         if path is None:
             path = Path.from_poses([])
         search = self.get_input("max_robot_pose_search_dist")
-        pruning = math.isfinite(search)
+        pruning = 0.0 <= search < math.inf
+        if not pruning:
+            search = math.inf
         if not pruning or path is not self._path:
             self._path, self._begin = path, 0
         pose = self.read("pose")

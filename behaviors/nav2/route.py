@@ -35,12 +35,12 @@ PATH_DENSITY = 0.05  # m between poses of the route's path (nav2_route's path_de
 class ComputeRoute(Leaf):
     """Find the cheapest route on the route graph and write it with its dense ``path``.
 
-    With ``use_poses`` the route runs between the graph nodes nearest ``start`` (the robot
-    pose unless ``use_start``) and ``goal``; otherwise between ``start_id`` and ``goal_id``.
-    SUCCESS with ``route`` (nodes, edges, cost) and ``path`` (the nodes joined by straight
-    segments every ``route_server.path_density`` m, 5 cm by default). FAILURE with ``error_code_id`` NO_VALID_GRAPH (no graph),
-    INDETERMINANT_NODES_ON_GRAPH (an unknown id) or NO_VALID_ROUTE, and empty outputs.
-    One tick: the search is synchronous. (Nav2 ``ComputeRoute``.)"""
+    With ``use_poses`` the route runs between the graph nodes nearest ``start`` (the robot pose
+    unless ``use_start``) and ``goal``; otherwise between ``start_id`` and ``goal_id``. SUCCESS
+    with ``route`` (nodes, edges, cost) and ``path`` (the nodes joined by straight segments
+    every ``route_server.path_density`` m, 5 cm by default). FAILURE with ``error_code_id``
+    NO_VALID_GRAPH (no graph), INDETERMINANT_NODES_ON_GRAPH (an unknown id) or NO_VALID_ROUTE,
+    and empty outputs. One tick: the search is synchronous. (Nav2 ``ComputeRoute``.)"""
 
     INPUT_PORTS = {
         "start_id": PortInformation(int, False, "route start node id"),
