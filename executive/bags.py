@@ -163,7 +163,7 @@ class BagSink:
             if self.grid is not None:
                 self._write("/map", "nav_msgs/msg/OccupancyGrid", self._map(t), t)
         est = executive.robot.pose()
-        odom = getattr(executive, "_last_odom", None)
+        odom = executive.last_odom
         op = odom.pose if odom is not None else est
         self._write("/odom", "nav_msgs/msg/Odometry",
                     m.odometry(t, op, odom.twist if odom is not None else None, "odom",
@@ -176,7 +176,7 @@ class BagSink:
         if truth is not None:
             self._write("/base_pose_ground_truth", "nav_msgs/msg/Odometry",
                         m.odometry(t, truth, None, "map", "base_link"), t)
-        scan = getattr(executive, "_last_scan", None)
+        scan = executive.last_scan
         if scan is not None and scan is not self._last_scan:
             self._last_scan = scan
             self._write("/scan", "sensor_msgs/msg/LaserScan", self._scan(scan), float(scan.stamp))

@@ -115,7 +115,7 @@ class RunCapture:
         self.times.append(t)
         self.poses.append((est.x, est.y, est.theta))
         self.truth.append((truth.x, truth.y, truth.theta))
-        odom = getattr(executive, "_last_odom", None)
+        odom = executive.last_odom
         op = odom.pose if odom is not None else est
         self.odom.append((op.x, op.y, op.theta))
         v = robot.velocity()
@@ -136,7 +136,7 @@ class RunCapture:
             active = self.recovery_names.index(name)
         self.active_recovery.append(active)
 
-        scan = getattr(executive, "_last_scan", None)
+        scan = executive.last_scan
         if scan is not None:
             sample = None
             if scan is not self._last_scan and t >= self._next["scan"] - 1e-9:

@@ -166,6 +166,16 @@ class Executive:
         self.internal_error: dict[str, Any] | None = None  # the error event of a bug in the tree
         self.recorder.attach(self)
 
+    @property
+    def last_scan(self) -> LaserScan | None:
+        """The newest laser scan sensed (recorders and viewers read it; behaviours do not)."""
+        return self._last_scan
+
+    @property
+    def last_odom(self) -> Odometry | None:
+        """The newest odometry sensed (recorders and viewers read it; behaviours do not)."""
+        return self._last_odom
+
     # --- what the nodes did ------------------------------------------------------------------
     def _note_recoveries(self) -> None:
         """An event for each recovery node that started a run in this tick."""

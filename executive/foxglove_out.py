@@ -146,11 +146,11 @@ class FoxgloveSink:
             self._next["map"] = t + LIVE_RESEND_S if self.live else math.inf
         self._costmaps(comps, t, ns)
         est = executive.robot.pose()
-        odom = getattr(executive, "_last_odom", None)
+        odom = executive.last_odom
         self._transforms(est, odom.pose if odom is not None else est, ns)
         self._log("/pose", self._m.PoseInFrame(timestamp=_stamp(self._m, ns), frame_id="map",
                                                pose=_pose(self._m, est)), ns)
-        scan = getattr(executive, "_last_scan", None)
+        scan = executive.last_scan
         if scan is not None and scan is not self._last_scan:
             self._last_scan = scan
             r = np.asarray(scan.ranges, dtype=np.float64)
