@@ -434,7 +434,7 @@ def draw_frame(data: dict[str, Any], i: int, out_path: str, width: int = 760,
         return height - offy - (y - by0) * sc
 
     side = 300
-    img = Image.new("RGBA", (width + side, height), (255, 255, 255, 255))
+    img = Image.new("RGBA", (width, height), (255, 255, 255, 255))  # the map view alone
 
     def grid(g: dict[str, Any]) -> None:
         im = _decode_png(g["png"])
@@ -478,7 +478,12 @@ def draw_frame(data: dict[str, Any], i: int, out_path: str, width: int = 760,
         footprint(g, (160, 0, 200))
     if data["pose"][i]:
         footprint(data["pose"][i], (0, 90, 200))
-    # the tree's statuses beside the map
+    # the tree's statuses beside the map (drawn on a wider picture: nothing of the map view
+    # spills into the side panel)
+    frame = Image.new("RGBA", (width + side, height), (255, 255, 255, 255))
+    frame.paste(img, (0, 0))
+    img = frame
+    draw = ImageDraw.Draw(img)
     f12 = _font(12)
     colours = {"SUCCESS": (46, 157, 58), "FAILURE": (214, 39, 40), "RUNNING": (242, 142, 0)}
     header = {"nodes": [n[:3] for n in data["nodes"]]}

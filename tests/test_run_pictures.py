@@ -63,3 +63,30 @@ def test_capture_matches_tick_log(demo_run):
     assert footer["last_failure"] and names[footer["last_failure"][-1]] == "FollowPath"
     svg = (demo_run / "tree.svg").read_text()
     assert "ticks, " in svg and "smach_recovery" in svg and "#d62728" in svg
+
+
+def test_amcl_run_shows_particles_and_localisation_error(tmp_path):
+    """With AMCL estimating the pose: a fourth plot row (localisation error), particles in the
+    replay page, and /particlecloud in run.mcap."""
+    import os
+
+    from executive.loading import shipped_tree
+    from executive.replay_html import read_page_data
+    from executive.scenario import load_scenario, run_scenario
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    s = load_scenario(os.path.join(root, "executive", "data", "demo.yaml"))
+    s.params = {"amcl": {"min_particles": 200, "max_particles": 500}}
+    out = tmp_path / "amcl"
+    run_scenario(s, shipped_tree("smach_recovery"), record_dir=str(out))
+    header, ticks, footer = read_log(str(out / "ticks.jsonl"))
+    data = read_page_data(str(out / "replay.html"))
+    # particles sampled every 0.5 s simulated
+    assert len(data["particles"]) >= int(ticks[-1]["t"] / 0.5)
+    assert "truth" in data and len(data["truth"]) == len(ticks)
+    summary = json.loads((out / "summary.json").read_text())
+    if "mcap_messages" in summary:
+        assert summary["mcap_messages"]["/particlecloud"] == len(data["particles"])
+    img = Image.open(out / "run.png")
+    plots_top = img.height - 4 * 92 - 30
+    colours = _colours(img, (0, plots_top, img.width, img.height))
+    assert (200, 60, 40) in colours      # the localisation error line
