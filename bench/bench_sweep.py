@@ -15,19 +15,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import multiprocessing as mp
 import os
 import statistics
 import sys
 import tempfile
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 import yaml  # noqa: E402
 
-from executive.sweeps.runner import run_task, warm_worker  # noqa: E402
+from executive.sweeps.runner import Executor  # noqa: E402
 from executive.sweeps.spec import load_sweep  # noqa: E402
 
 _ROOM = "\n".join(["#" * 34] + ["#" + "." * 32 + "#"] * 20 + ["#" * 34])
@@ -52,33 +50,16 @@ def make_sweep(folder: str, seeds: int) -> str:
     return path
 
 
-def _noop(_: int) -> int:
-    return os.getpid()
-
-
-def time_pool(tasks: list, workers: int) -> tuple[float, list[dict]]:
-    """Wall time of the tasks on ``workers`` warm processes."""
-    with ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"),
-                             initializer=warm_worker) as pool:
-        list(pool.map(_noop, range(4 * workers)))        # start and warm every worker
+def time_executor(tasks: list, workers: int, dask: str | None = None
+                  ) -> tuple[float, list[dict]]:
+    """Wall time of the tasks on ``workers`` warm workers (a first batch starts and warms them)."""
+    records: list[dict] = []
+    with Executor(workers, dask) as ex:
+        ex.run(tasks[:2 * workers], lambda t, r, timing: None)
         t0 = time.perf_counter()
-        results = list(pool.map(run_task, tasks))
+        ex.run(tasks, lambda t, r, timing: records.append(dict(r, **timing)))
         wall = time.perf_counter() - t0
-    return wall, [dict(r, **t) for r, t in results]
-
-
-def time_dask(tasks: list, workers: int) -> float:
-    from dask.distributed import Client, LocalCluster, wait
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      host="127.0.0.1", dashboard_address=None) as cluster, \
-            Client(cluster) as client:
-        client.run(warm_worker)
-        t0 = time.perf_counter()
-        futures = client.map(run_task, tasks, pure=False)
-        wait(futures)
-        wall = time.perf_counter() - t0
-        client.gather(futures)
-    return wall
+    return wall, records
 
 
 def main() -> None:
@@ -88,11 +69,11 @@ def main() -> None:
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as d:
         tasks = load_sweep(make_sweep(d, args.seeds)).tasks()
-        wall1, recs = time_pool(tasks, 1)
-        wall2, _ = time_pool(tasks, 2)
+        wall1, recs = time_executor(tasks, 1)
+        wall2, _ = time_executor(tasks, 2)
         try:
-            wall_dask = time_dask(tasks, 2)
-        except ImportError:
+            wall_dask, _ = time_executor(tasks, 2, dask="local")
+        except RuntimeError:   # dask.distributed not installed
             wall_dask = None
     n = len(tasks)
     median_run_ms = 1000 * statistics.median(r["wall_time_s"] for r in recs)

@@ -121,24 +121,55 @@ def run_serial(tasks: Iterable[RunTask], on_result: OnResult) -> None:
         on_result(t, record, timing)
 
 
-def run_pool(tasks: list[RunTask], jobs: int, on_result: OnResult) -> None:
-    """On a pool of ``jobs`` local processes. A worker that dies (killed, out of memory) breaks
-    the pool: a new pool takes over the unfinished runs; a run whose worker died
-    ``MAX_WORKER_DEATHS`` times is recorded as an error."""
-    import multiprocessing as mp
-    pending = list(tasks)
-    deaths: dict[str, int] = {}
-    ctx = mp.get_context("spawn")   # no fork of a process that holds threads and open files
-    while pending:
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx,
-                                 initializer=warm_worker) as pool:
+class Executor:
+    """Where runs go: this process (``jobs=1``), a pool of ``jobs`` local processes, or Dask.
+    Kept open across batches (a study's trials), so its workers start and warm once."""
+
+    def __init__(self, jobs: int = 1, dask: str | None = None) -> None:
+        self.jobs, self.dask = max(1, jobs), dask
+        self._pool: ProcessPoolExecutor | None = None
+        self._client: Any = None
+
+    def __enter__(self) -> "Executor":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def run(self, tasks: list[RunTask], on_result: OnResult) -> None:
+        if not tasks:
+            return
+        if self.dask:
+            if self._client is None:
+                self._client = dask_client(self.dask, self.jobs)
+                self._client.run(warm_worker)
+            run_dask(tasks, self._client, on_result)
+        elif self.jobs == 1:
+            run_serial(tasks, on_result)
+        else:
+            self._run_pool(tasks, on_result)
+
+    def _new_pool(self) -> ProcessPoolExecutor:
+        import multiprocessing as mp
+        # spawn: no fork of a process that holds threads and open files
+        return ProcessPoolExecutor(max_workers=self.jobs, mp_context=mp.get_context("spawn"),
+                                   initializer=warm_worker)
+
+    def _run_pool(self, tasks: list[RunTask], on_result: OnResult) -> None:
+        """A worker that dies (killed, out of memory) breaks the pool: a new pool takes over the
+        unfinished runs; a run whose worker died ``MAX_WORKER_DEATHS`` times is an error."""
+        pending = list(tasks)
+        deaths: dict[str, int] = {}
+        while pending:
+            if self._pool is None:
+                self._pool = self._new_pool()
             queue = list(pending)
             running: dict[Future, RunTask] = {}
             broken = False
             while (queue or running) and not broken:
-                while queue and len(running) < 2 * jobs:
+                while queue and len(running) < 2 * self.jobs:
                     t = queue.pop(0)
-                    running[pool.submit(run_task, t)] = t
+                    running[self._pool.submit(run_task, t)] = t
                 done, _ = wait(running, return_when=FIRST_COMPLETED)
                 for f in done:
                     t = running.pop(f)
@@ -148,6 +179,7 @@ def run_pool(tasks: list[RunTask], jobs: int, on_result: OnResult) -> None:
                         broken = True
                         deaths[t.run_id] = deaths.get(t.run_id, 0) + 1
                         if deaths[t.run_id] >= MAX_WORKER_DEATHS:
+                            pending.remove(t)
                             on_result(t, _error_record(t, "worker process died while running "
                                                           "this run"), {"worker": "?"})
                         continue
@@ -159,8 +191,19 @@ def run_pool(tasks: list[RunTask], jobs: int, on_result: OnResult) -> None:
                         record, timing = f.result()
                         pending.remove(t)
                         on_result(t, record, timing)
-                pending = [t for t in pending if deaths.get(t.run_id, 0) < MAX_WORKER_DEATHS]
-                pool.shutdown(wait=False, cancel_futures=True)
+                self._pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = None
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+        if self._client is not None:
+            cluster = getattr(self._client, "cluster", None)
+            self._client.close()
+            if cluster is not None and self.dask == "local":
+                cluster.close()
+            self._client = None
 
 
 def dask_client(address: str, jobs: int) -> Any:
@@ -178,10 +221,9 @@ def dask_client(address: str, jobs: int) -> Any:
 
 
 def run_dask(tasks: list[RunTask], client: Any, on_result: OnResult) -> None:
-    """On a Dask cluster. Workers warm once (``client.run``); dask re-runs a task whose worker
-    died, and a task that keeps killing workers is recorded as an error."""
+    """On a Dask cluster whose workers are warm (``client.run(warm_worker)``); dask re-runs a
+    task whose worker died, and a task that keeps killing workers is recorded as an error."""
     from dask.distributed import as_completed
-    client.run(warm_worker)
     futures = client.map(run_task, tasks, pure=False)
     by_key = {f.key: t for f, t in zip(futures, tasks)}
     for f in as_completed(futures):

@@ -11,9 +11,9 @@ import os
 import sys
 import time
 from dataclasses import dataclass
-from typing import Any, Callable, TextIO
+from typing import Any, TextIO
 
-from executive.sweeps.runner import dask_client, run_dask, run_pool, run_serial
+from executive.sweeps.runner import Executor
 from executive.sweeps.spec import RunTask, SweepSpec
 from executive.sweeps.store import ResultStore
 
@@ -52,37 +52,20 @@ class Progress:
             self.out.write("\n")
 
 
-def run_tasks(tasks: list[RunTask], store: ResultStore, jobs: int = 1, dask: str | None = None,
-              on_result: Callable[[RunTask, dict[str, Any]], None] | None = None,
+def run_tasks(tasks: list[RunTask], store: ResultStore, executor: Executor,
               progress: Progress | None = None) -> int:
-    """Run ``tasks`` with the chosen executor, writing each result to ``store``; returns the
-    number of error records."""
+    """Run ``tasks`` on ``executor``, writing each result to ``store`` as it arrives; returns
+    the number of error records."""
     errors = 0
 
     def done(task: RunTask, record: dict[str, Any], timing: dict[str, Any]) -> None:
         nonlocal errors
         store.add(record, timing)
         errors += record["outcome"] == "error"
-        if on_result is not None:
-            on_result(task, record)
         if progress is not None:
             progress.step(f"{record['scenario']} {record['outcome']}")
 
-    if not tasks:
-        return 0
-    if dask:
-        client = dask_client(dask, max(1, jobs))
-        try:
-            run_dask(tasks, client, done)
-        finally:
-            cluster = getattr(client, "cluster", None)
-            client.close()
-            if cluster is not None and dask == "local":
-                cluster.close()
-    elif jobs <= 1:
-        run_serial(tasks, done)
-    else:
-        run_pool(tasks, jobs, done)
+    executor.run(tasks, done)
     return errors
 
 
@@ -109,7 +92,8 @@ def run_sweep(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = N
                   f"(session {session})\n")
         out.flush()
         progress = Progress(len(todo))
-        errors = run_tasks(todo, store, jobs, dask, progress=progress)
+        with Executor(jobs, dask) as executor:
+            errors = run_tasks(todo, store, executor, progress=progress)
         progress.close()
         return SweepSummary(len(tasks), skipped, len(todo), errors,
                             time.perf_counter() - t0, store.path)

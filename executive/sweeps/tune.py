@@ -18,6 +18,7 @@ from typing import Any, TextIO
 import yaml
 
 from executive.sweeps.apply import merged_params, split_point, tree_with_ports
+from executive.sweeps.runner import Executor
 from executive.sweeps.spec import RunTask, SearchDim, SweepSpec
 from executive.sweeps.store import ResultStore
 from executive.sweeps.sweep import run_tasks
@@ -75,7 +76,7 @@ def tune(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = None,
         tasks = [RunTask(t.scenario, t.seed, t.tree, tuple(sorted(point.items())), t.config,
                          t.time_limit) for t in base_tasks]
         finished = store.finished_ids()
-        run_tasks([t for t in tasks if t.run_id not in finished], store, jobs, dask)
+        run_tasks([t for t in tasks if t.run_id not in finished], store, executor)
         ids = {t.run_id for t in tasks}
         records = [r for r in store.records() if r["run_id"] in ids]
         value, contacts = score(records, limit)
@@ -86,7 +87,8 @@ def tune(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = None,
                   f"{100 * trial.user_attrs['success_rate']:.0f}%, contacts {contacts}\n")
         return value
 
-    study.optimize(objective, n_trials=todo)
+    with Executor(jobs, dask) as executor:   # one set of warm workers for every trial
+        study.optimize(objective, n_trials=todo)
     feasible = [t for t in study.trials if t.state.is_finished() and t.value is not None
                 and t.user_attrs.get("contacts", 1) == 0]
     store.close()
