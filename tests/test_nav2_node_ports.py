@@ -515,3 +515,73 @@ def test_follow_path_writes_tracking_feedback_when_wired():
     bb_set(plain, "path", path_of([0.1 * i for i in range(31)]))
     tick(plain)
     assert bb_get(plain, "tracking_feedback") is None    # not wired: not computed
+
+
+def test_distance_controller():
+    """test/plugins/decorator/test_distance_controller.cpp test_behavior (distance 1.0): the
+    child at every metre, RUNNING in between."""
+    w = World()
+    child = Dummy()
+    d = node("DistanceController", world=w, child=child, distance=1.0)
+    assert tick(d) == S
+    for i in range(1, 21):
+        w.robot.teleport(Pose2D(i * 0.51, 0.0, 0.0))
+        assert tick(d) == (R if i % 2 else S), i
+
+
+def test_goal_updated_controller():
+    """test/plugins/decorator/test_goal_updated_controller.cpp test_behavior: the child on
+    the first tick and for a new goal, RUNNING otherwise."""
+    child = Dummy()
+    g = node("GoalUpdatedController", child=child)
+    bb_set(g, "goal", Pose2D(0.0, 0.0, 0.0))
+    assert tick(g) == S and child.status == S
+    bb_set(g, "goal", Pose2D(1.0, 0.0, 0.0))
+    assert tick(g) == S
+    assert tick(g) == R
+
+
+def test_single_trigger():
+    """test/plugins/decorator/test_single_trigger_node.cpp test_behavior: the child once per
+    run, FAILURE afterwards; a halt re-arms it."""
+    child = Dummy()
+    n = node("SingleTrigger", child=child)
+    assert tick(n) == S
+    assert tick(n) == F
+    n.stop(I)
+    child.change(R)
+    assert tick(n) == R
+    child.change(S)
+    assert tick(n) == S
+    assert tick(n) == F
+
+
+def test_goal_updated():
+    """test/plugins/condition/test_goal_updated.cpp test_behavior."""
+    n = node("GoalUpdated")
+    bb_set(n, "goal", Pose2D(0.0, 0.0, 0.0))
+    assert tick(n) == F
+    bb_set(n, "goal", Pose2D(1.0, 0.0, 0.0))
+    assert tick(n) == S
+    assert tick(n) == F
+
+
+def test_time_expired():
+    """test/plugins/condition/test_time_expired.cpp test_behavior (seconds 1.0, sleeps of
+    0.5 s -> clock)."""
+    w = World()
+    n = node("TimeExpired", world=w, seconds=1.0)
+    assert tick(n) == F
+    for i in range(20):
+        w.clock.advance(0.5)
+        assert tick(n) == (S if i % 2 else F), i
+
+
+def test_distance_traveled():
+    """test/plugins/condition/test_distance_traveled.cpp test_behavior (distance 1.0)."""
+    w = World()
+    n = node("DistanceTraveled", world=w, distance=1.0)
+    assert tick(n) == F
+    for i in range(1, 21):
+        w.robot.teleport(Pose2D(i * 0.51, 0.0, 0.0))
+        assert tick(n) == (F if i % 2 else S), i

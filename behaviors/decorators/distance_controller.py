@@ -20,8 +20,8 @@ class UsesRobot(DecoratorNode):
 class DistanceController(Throttle, UsesRobot):
     """Tick the child each time the robot has travelled ``distance`` metres (Nav2).
 
-    Also on the first tick of a run and while the child is RUNNING; otherwise the child's last
-    result. Distance is straight-line from where the child last succeeded.
+    Also on the first tick of a run and while the child is RUNNING; otherwise RUNNING without
+    ticking it (Nav2). Distance is straight-line from where the child last succeeded.
     """
 
     INPUT_PORTS = {"distance": Port(float, False, "travel between ticks, m", 1.0, low=0.0)}

@@ -9,7 +9,7 @@ from navcore.types import Pose2D
 
 class GoalUpdatedController(Throttle):
     """Tick the child on the first tick of a run, while it is RUNNING, and whenever ``goal``
-    changed; otherwise return the child's last result (Nav2 ``GoalUpdatedController``).
+    changed; otherwise RUNNING without ticking it (Nav2 ``GoalUpdatedController``).
 
     Around ComputePathToPose this is move_base's ``planner_frequency: 0``: plan once, and again
     for a new goal.

@@ -13,7 +13,8 @@ class SpeedController(Throttle, UsesRobot):
     """Tick the child at a rate that grows with the robot's speed (Nav2 ``SpeedController``).
 
     Rate = min_rate + (max_rate - min_rate) * (v - min_speed) / (max_speed - min_speed), clamped;
-    first tick of a run, RUNNING child, or period elapsed tick the child.
+    first tick of a run, RUNNING child, or period elapsed tick the child; otherwise RUNNING
+    without ticking it (Nav2).
     """
 
     INPUT_PORTS = {

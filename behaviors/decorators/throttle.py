@@ -10,8 +10,9 @@ from behaviors.base import INVALID, RUNNING, SUCCESS, DecoratorNode, Status, Tic
 
 class Throttle(DecoratorNode):
     """Tick the child on the first tick of a run, while it is RUNNING, and when ``due()``;
-    otherwise return ``throttled()`` (the child's last result, unless a subclass says
-    otherwise). Subclasses say when it is due, what a new run resets (``start_run``) and what
+    otherwise return ``throttled()``: RUNNING, as Nav2's RateController, DistanceController,
+    SpeedController and GoalUpdatedController do (they return their own status, set to
+    RUNNING, without ticking the child). Subclasses say when it is due, what a new run resets (``start_run``) and what
     a success of the child restarts (``child_succeeded``). With ``RESTART_WHEN_DUE`` a child
     still RUNNING when it falls due is halted and started again."""
 
@@ -29,7 +30,7 @@ class Throttle(DecoratorNode):
 
     def throttled(self) -> Status:
         """This node's status on a tick that does not tick the child."""
-        return self._last_status
+        return RUNNING
 
     def tick_children(self) -> Ticking:
         if self.status is INVALID:
