@@ -30,12 +30,6 @@ MAX_PARTICLE_SETS = 600
 SCAN_POINTS = 240
 MARGIN_M = 2.0
 
-def _png_data_uri(rgba: np.ndarray) -> str:
-    buf = io.BytesIO()
-    Image.fromarray(rgba, "RGBA" if rgba.shape[2] == 4 else "RGB").save(buf, "PNG")
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
-
-
 def _b64(a: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")
 
@@ -66,10 +60,23 @@ _PALETTE_RGB, _PALETTE_ALPHA = _costmap_palette()
 def costmap_png(costs: np.ndarray) -> str:
     """A costmap as a PNG data URI, row 0 at the bottom: the cost values are the pixels of a
     palette image (a fraction of the size of RGBA, and as fast to draw)."""
-    img = Image.fromarray(np.ascontiguousarray(costs[::-1], dtype=np.uint8), "P")
-    img.putpalette(_PALETTE_RGB)
+    return _palette_png(costs, _PALETTE_RGB, _PALETTE_ALPHA)
+
+
+# the map's cells as palette indices 0 free, 1 unknown, 2 occupied (see _occupancy_codes)
+_MAP_PALETTE = [255, 255, 255, 205, 205, 205, 30, 30, 30] + [0, 0, 0] * 253
+
+
+def _palette_png(values: np.ndarray, palette: list[int], alpha: bytes | None) -> str:
+    """``values`` (row 0 = lowest y) as the pixels of a palette PNG data URI. Level 3: a
+    Willow Garage global costmap encodes in half the time of level 6 for a fifth more bytes."""
+    img = Image.fromarray(np.ascontiguousarray(values[::-1], dtype=np.uint8), "P")
+    img.putpalette(palette)
     buf = io.BytesIO()
-    img.save(buf, "PNG", transparency=_PALETTE_ALPHA, compress_level=6)
+    if alpha is None:
+        img.save(buf, "PNG", compress_level=3)
+    else:
+        img.save(buf, "PNG", transparency=alpha, compress_level=3)
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 
@@ -156,10 +163,7 @@ def page_data(header: dict[str, Any], ticks: list[dict[str, Any]],
                           box)
         if crop is not None:
             codes, cx, cy = crop
-            rgb = np.full(codes.shape + (3,), 205, np.uint8)
-            rgb[codes == 0] = 255
-            rgb[codes == 2] = 30
-            data["map"] = {"png": _png_data_uri(rgb[::-1]), "res": grid.resolution,
+            data["map"] = {"png": _palette_png(codes, _MAP_PALETTE, None), "res": grid.resolution,
                            "ox": cx, "oy": cy, "w": codes.shape[1], "h": codes.shape[0]}
     if capture is not None:
         index = {tick: i for i, tick in enumerate(data["ticks"])}
