@@ -2,7 +2,7 @@
 table from the planners' and controllers' results to them.
 
 Values follow Nav2's action definitions (nav2_msgs/action: ComputePathToPose 2xx, FollowPath 1xx,
-Spin 70x, BackUp 71x, DriveOnHeading 72x, Wait 74x), so a Nav2 user's ``error_codes_to_check``
+ComputeRoute 4xx, SmoothPath 5xx, Spin 70x, BackUp 71x, DriveOnHeading 72x, Wait 74x), so a Nav2 user's ``error_codes_to_check``
 lists mean the same here; 0 is success. navbt's own recoveries (TemporaryGoal,
 BackOffToPreviousPose) use 80x. A bug is none of these: it raises, and the
 executive ends the mission with INTERNAL_ERROR (no recovery branch ever sees it).
@@ -45,6 +45,31 @@ class ControllerError(IntEnum):
     FAILED_TO_MAKE_PROGRESS = 105
     NO_VALID_CONTROL = 106
     CONTROLLER_TIMED_OUT = 107
+
+
+class SmootherError(IntEnum):
+    """nav2_msgs/action/SmoothPath error codes."""
+
+    NONE = 0
+    UNKNOWN = 500
+    INVALID_SMOOTHER = 501
+    TIMEOUT = 502
+    SMOOTHED_PATH_IN_COLLISION = 503
+    FAILED_TO_SMOOTH_PATH = 504
+    INVALID_PATH = 505
+
+
+class RouteErrorCode(IntEnum):
+    """nav2_msgs/action/ComputeRoute (and ComputeAndTrackRoute) error codes."""
+
+    NONE = 0
+    UNKNOWN = 400
+    TF_ERROR = 401
+    NO_VALID_GRAPH = 402
+    INDETERMINANT_NODES_ON_GRAPH = 403
+    TIMEOUT = 404
+    NO_VALID_ROUTE = 405
+    INVALID_EDGE_SCORER_USE = 407
 
 
 class SpinError(IntEnum):
@@ -123,3 +148,5 @@ PLANNER_RECOVERABLE = [int(PlannerError.UNKNOWN), int(PlannerError.NO_VALID_PATH
 CONTROLLER_RECOVERABLE = [int(ControllerError.UNKNOWN), int(ControllerError.PATIENCE_EXCEEDED),
                           int(ControllerError.FAILED_TO_MAKE_PROGRESS),
                           int(ControllerError.NO_VALID_CONTROL)]
+ROUTE_RECOVERABLE = [int(RouteErrorCode.UNKNOWN), int(RouteErrorCode.NO_VALID_ROUTE),
+                     int(RouteErrorCode.TIMEOUT)]

@@ -8,8 +8,9 @@ import re
 
 from navcore.controllers.result import ControlStatus
 from navcore.error_codes import (CONTROL_CODES, CONTROLLER_RECOVERABLE, PLAN_CODES,
-                                 PLANNER_RECOVERABLE, BackUpError, ControllerError,
-                                 DriveOnHeadingError, PlannerError, RecoveryError, SpinError,
+                                 PLANNER_RECOVERABLE, ROUTE_RECOVERABLE, BackUpError,
+                                 ControllerError, DriveOnHeadingError, PlannerError,
+                                 RecoveryError, RouteErrorCode, SmootherError, SpinError,
                                  WaitError)
 from navcore.planners.result import PlanReason
 
@@ -55,13 +56,14 @@ def test_codes_the_nodes_write_are_nav2_s_and_defined():
     assert (SpinError.COLLISION_AHEAD, BackUpError.COLLISION_AHEAD,
             DriveOnHeadingError.COLLISION_AHEAD, WaitError.TIMEOUT) == (703, 714, 723, 741)
     # the ranges do not overlap (a code tells which action wrote it)
-    ranges = [{int(m) for m in e if m} for e in (PlannerError, ControllerError, SpinError,
-                                                 BackUpError, DriveOnHeadingError, WaitError,
-                                                 RecoveryError)]
+    ranges = [{int(m) for m in e if m} for e in (PlannerError, ControllerError, RouteErrorCode,
+                                                 SmootherError, SpinError, BackUpError,
+                                                 DriveOnHeadingError, WaitError, RecoveryError)]
     assert sum(map(len, ranges)) == len(set().union(*ranges))
     # Nav2's defaults for WouldA...RecoveryHelp
     assert PLANNER_RECOVERABLE == [200, 208, 207]
     assert CONTROLLER_RECOVERABLE == [100, 104, 105, 106]
+    assert ROUTE_RECOVERABLE == [400, 405, 404]
 
 
 def test_a_plain_string_reason_finds_its_code():

@@ -4,11 +4,11 @@ actions on paths). Each takes one tick; the path arithmetic is in navcore.path_o
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, PortInformation, Status
 from navcore import path_ops
+from navcore.error_codes import SmootherError
 from navcore.types import Path, Pose2D
 
 
@@ -197,13 +197,3 @@ class SmoothPath(Leaf):
         return FAILURE
 
 
-class SmootherError(IntEnum):
-    """nav2_msgs/action/SmoothPath error codes."""
-
-    NONE = 0
-    UNKNOWN = 500
-    INVALID_SMOOTHER = 501
-    TIMEOUT = 502
-    SMOOTHED_PATH_IN_COLLISION = 503
-    FAILED_TO_SMOOTH_PATH = 504
-    INVALID_PATH = 505

@@ -5,30 +5,15 @@ navcore.route.RouteGraph from a Nav2 GeoJSON file; the robot config's
 
 from __future__ import annotations
 
-from enum import IntEnum
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, PortInformation, Status
 from behaviors.conditions.error_codes import WouldRecoveryHelp
+from navcore.error_codes import ROUTE_RECOVERABLE, RouteErrorCode
 from navcore.route import Route, RouteError, densify, find_route, route_between_poses
 from navcore.types import Path, Pose2D
 
 
-class RouteErrorCode(IntEnum):
-    """nav2_msgs/action/ComputeRoute (and ComputeAndTrackRoute) error codes."""
-
-    NONE = 0
-    UNKNOWN = 400
-    TF_ERROR = 401
-    NO_VALID_GRAPH = 402
-    INDETERMINANT_NODES_ON_GRAPH = 403
-    TIMEOUT = 404
-    NO_VALID_ROUTE = 405
-    INVALID_EDGE_SCORER_USE = 407
-
-
-ROUTE_RECOVERABLE = [int(RouteErrorCode.UNKNOWN), int(RouteErrorCode.NO_VALID_ROUTE),
-                     int(RouteErrorCode.TIMEOUT)]
 PATH_DENSITY = 0.05  # m between poses of the route's path (nav2_route's path_density default)
 
 
