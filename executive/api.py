@@ -27,7 +27,8 @@ from navcore.clock import Clock, SimClock, WallClock
 from navcore.maps import OccupancyGrid, load_map
 from navcore.types import Pose2D
 
-from executive.config import ConfigError, RobotConfig, config_from_mapping
+from executive.config import (ConfigError, ConfigSources, RobotConfig, config_from_mapping,
+                              load_config_sources)
 from executive.config import load_config as _load_config_file
 from executive.errors import WiringError
 from executive.executive import Executive, _mission_ids
@@ -68,9 +69,14 @@ def parse_tree(text: str, name: str = "<text>") -> LoadedTree:
     return load_tree_text(text, namespace=_namespace(), name=name)
 
 
-def load_config(source: str | os.PathLike | Mapping[str, Any] | None = None) -> RobotConfig:
-    """A robot config: a YAML file, an already parsed mapping of ROS namespaces, or None for
-    the bundled robot. Errors are ``ConfigError`` naming file, namespace and parameter."""
+def load_config(source: str | os.PathLike | Mapping[str, Any] | ConfigSources | None = None
+                ) -> RobotConfig:
+    """A robot config: a YAML file, an already parsed mapping of ROS namespaces, ROS files
+    (``ConfigSources(launch=..., args=..., params=[...], nav2_params=[...])``, see
+    docs/ros-users.md), or None for the bundled robot. Errors are ``ConfigError`` naming file,
+    line, namespace and parameter."""
+    if isinstance(source, ConfigSources):
+        return load_config_sources(source)
     if isinstance(source, Mapping):
         return config_from_mapping(source, "<mapping>")
     return _load_config_file(None if source is None else str(source))

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
-from executive.config import ConfigSources, load_config_sources
+from executive import ConfigSources, load_config
 from tests.conftest import REAL_MAPS
 
 # TurtleBot3's Gazebo spawn pose in turtlebot3_world, and a goal past the pillars
@@ -24,13 +24,14 @@ def world(shared_data):
 
 
 def _run(config, grid, tree):
-    from executive.loading import shipped_tree
-    from executive.mission import build_mission, run_mission
+    """A mission through the public API (executive.open_mission), as a user would run it."""
+    from executive import open_mission
     from navcore.types import Pose2D
-    m = build_mission(shipped_tree(tree), config, grid, Pose2D(*START))
     goal = Pose2D(*GOAL)
-    result = run_mission(m, [goal], time_limit=90.0)
-    return m, result, goal
+    with open_mission(tree, config, grid, start=Pose2D(*START)) as nav:
+        nav.go_to_pose(goal, time_limit=90.0)
+        result = nav.run()
+        return nav.mission, result, goal
 
 
 def _check(m, result, goal, tolerance):
@@ -48,8 +49,8 @@ def test_turtlebot3_launch_mission_reaches_goal(shared_data, world, model, monke
         pytest.skip(f"TurtleBot3 files not found under {root}")
     declared = yaml.safe_load((root / "param" / f"costmap_common_params_{model}.yaml")
                               .read_text())["footprint"]
-    config = load_config_sources(ConfigSources(launch=str(root / "launch" / "move_base.launch"),
-                                               args={"model": model}))
+    config = load_config(ConfigSources(launch=str(root / "launch" / "move_base.launch"),
+                                       args={"model": model}))
     m, result, goal = _run(config, world, "move_base")
     # the declared footprint is the simulated body and (padded by 0.01) the costmaps'
     assert np.allclose(m.sim.config.footprint, declared)
@@ -64,7 +65,7 @@ def test_nav2_params_mission_reaches_goal(shared_data, world, distro):
     path = shared_data / "ros_params" / "nav2" / f"nav2_params_{distro}.yaml"
     if not path.exists():
         pytest.skip(f"{path} not found")
-    config = load_config_sources(ConfigSources(nav2_params=[str(path)]))
+    config = load_config(ConfigSources(nav2_params=[str(path)]))
     m, result, goal = _run(config, world, "nav2")
     body = np.asarray(m.sim.config.footprint)
     assert np.allclose(np.hypot(body[:, 0], body[:, 1]), 0.22)   # robot_radius 0.22
