@@ -1,13 +1,16 @@
-"""The robot config: one YAML file with a ROS parameter namespace per component.
+"""The robot config: ROS parameter namespaces per component, from a navbt YAML or ROS files.
 
 A user pastes their ``costmap_common_params.yaml``, ``dwa_local_planner_params.yaml``, amcl and
-move_base parameters under the namespaces ROS uses, and they mean the same here. Every value is
-checked against the declaring component's ``Param`` table at load time, so a typo or an
-out-of-range value is an error naming the file, the namespace and the parameter, before any robot
-moves. The namespaces owned here are ``robot`` (body and devices), ``move_base`` and ``safety``;
-the others come from the component that declares them (found lazily, see ``COMPONENT_NAMESPACES``).
+move_base parameters under the namespaces ROS uses, or brings the ROS files themselves
+(``ConfigSources``: a roslaunch file, rosparam files into namespaces, a Nav2 parameter file; read
+by executive.ros_launch / ros_params / nav2_params), and they mean the same here. Every value is
+checked against the declaring component's ``Param`` table at load time, with ROS's own leniency
+(deprecated names, clamps, keys ROS ignores: ros_params.LENIENCY); every error is reported at
+once, each naming file:line, namespace and parameter, before any robot moves. The namespaces
+owned here are ``robot`` (body and devices), ``move_base``, ``safety`` and ``behavior_server``;
+the others come from the component that declares them (found lazily, see
+``COMPONENT_NAMESPACES``). The costmaps' footprint is the robot's unless ``robot`` gives one.
 """
-
 from __future__ import annotations
 
 import importlib
