@@ -134,3 +134,15 @@ def test_length_to_go_matches_the_reversed_cumulative_sum():
         want = (np.concatenate([np.cumsum(steps[::-1])[::-1], [0.0]]) if len(steps)
                 else np.zeros(1))
         np.testing.assert_array_equal(length_to_go(poses), want)
+
+
+def test_first_blocked_path_pose_on_the_grid():
+    from navcore.costmap.cost_values import NO_INFORMATION
+    from navcore.costmap.path_check import first_blocked
+    cm = Costmap2D(20, 10, 0.1, 0.0, 0.0)
+    cm.costs[5, 12] = INSCRIBED_INFLATED_OBSTACLE
+    cm.costs[5, 8] = NO_INFORMATION
+    poses = np.array([[0.05 + 0.1 * i, 0.55, 0.0] for i in range(-3, 20)])  # three off the map
+    assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE - 1) == (15, 253)
+    assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE - 1, True) == (11, 255)
+    assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE) is None

@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
-from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, NO_INFORMATION
+from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from navcore.costmap.path_check import first_blocked
 from navcore.types import Path
 from behaviors.conditions.condition import Condition
 
@@ -34,17 +35,10 @@ class IsPathValid(Condition):
         if path is None or len(path) == 0:
             self.say("no path")
             return FAILURE
-        grid = self.costmap.costmap
-        max_cost = self.get_input("max_cost")
-        unknown_blocks = self.get_input("consider_unknown_as_obstacle")
-        for x, y, _ in path.poses:
-            cell = grid.world_to_map(float(x), float(y))
-            if cell is None:
-                continue
-            cost = int(grid.costs[cell[1], cell[0]])
-            if cost == NO_INFORMATION and not unknown_blocks:
-                continue
-            if cost > max_cost:
-                self.say(f"path blocked at ({x:.2f}, {y:.2f}), cost {cost}")
-                return FAILURE
+        blocked = first_blocked(self.costmap.costmap, path.poses, self.get_input("max_cost"),
+                                self.get_input("consider_unknown_as_obstacle"))
+        if blocked is not None:
+            x, y, _ = path.poses[blocked[0]]
+            self.say(f"path blocked at ({x:.2f}, {y:.2f}), cost {blocked[1]}")
+            return FAILURE
         return SUCCESS
