@@ -47,8 +47,7 @@ class Port(PortInformation):
 
     Every number port (``float`` or ``int``) refuses NaN, and infinity unless it is declared
     with ``finite=False`` or an infinite default (``port_problem``); ``Port`` adds the range.
-    Literals are checked when the tree loads, wired
-    values on every read.
+    Literals are checked when the tree loads, wired values on every read.
     """
 
     low: float | None = None
