@@ -15,6 +15,8 @@ from typing import Any, Mapping
 
 import yaml
 
+from navcore.safe_read import load_yaml
+
 
 class ApplyError(ValueError):
     """A point names a parameter or port that does not exist, or a value it cannot take."""
@@ -153,8 +155,7 @@ def tree_with_ports(tree_path: str, point: Mapping[str, Any], out_dir: str | Non
         return tree_path
     if not tree_path.endswith((".yaml", ".yml")):
         raise ApplyError(f"tree ports need a YAML tree; {tree_path} is not one")
-    with open(tree_path, encoding="utf-8") as f:
-        doc = yaml.safe_load(f)
+    doc = load_yaml(tree_path, what="tree file", error=ApplyError)
     changed = tree_doc_with_ports(doc, ports, tree_path)
     out_dir = out_dir or tempfile.mkdtemp(prefix="navbt-sweep-tree-")
     out = os.path.join(out_dir, os.path.basename(tree_path))

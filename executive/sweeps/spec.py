@@ -23,6 +23,7 @@ from typing import Any, Mapping
 import yaml
 
 from navcore.params import suggest
+from navcore.safe_read import compose_yaml, node_value
 
 TOP_KEYS = ("name", "description", "scenarios", "seeds", "trees", "config", "launch", "args",
             "params", "nav2_params", "grid", "zip", "points", "time_limit", "search", "trials",
@@ -119,9 +120,11 @@ class SweepSpec:
 def load_with_lines(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
     """Parse YAML safely; also return the line (1-based) of every mapping key and list item,
     keyed by its path of keys / indices."""
-    try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
-        doc = yaml.safe_load(text)
+    try:  # one reading path: depth, alias and number limits of navcore.safe_read
+        node = compose_yaml(text, source, error=SweepError)
+        doc = None if node is None else node_value(node, source, error=SweepError)
+    except SweepError:
+        raise
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         line = f":{mark.line + 1}" if mark is not None else ""
