@@ -142,3 +142,23 @@ def test_live_run_serves_every_channel_on_loopback():
         runner.join(timeout=60)
         sink.close()
     assert result and result[0].outcome == "succeeded"
+
+
+def test_live_port_in_use_is_a_clear_error(capsys):
+    import os
+
+    import foxglove
+
+    from executive.cli import main
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    taken = foxglove.start_server(host="127.0.0.1", port=0)
+    port = taken.port
+    try:
+        code = main(["run", os.path.join(root, "trees", "smach_recovery.yaml"), "--map",
+                     os.path.join(root, "executive", "data", "maps", "two_rooms.yaml"),
+                     "--goal", "6.5,1.5,0", "--live", "--port", str(port)])
+    finally:
+        taken.stop()
+    err = capsys.readouterr().err
+    assert code == 1 and f"--live: cannot serve on 127.0.0.1:{port}" in err
+    assert len(err.strip().splitlines()) == 1
