@@ -133,7 +133,9 @@ def tree_picture(ex: Executive, tree_path: str, fmt: str) -> bytes:
     if stats_visitor is not None:
         stats = [NodeStats(a, b, c, d) for a, b, c, d in stats_visitor.as_lists()]
         last = stats_visitor.last_failure
-    title = os.path.splitext(os.path.basename(str(tree_path)))[0] or ex.tree.root.name
+    handle = getattr(ex, "handle", None)   # the loaded tree: its main_tree is its name
+    title = getattr(handle, "main_tree", "") or \
+        os.path.splitext(os.path.basename(str(tree_path)))[0] or ex.tree.root.name
     return render_tree(ex.tree.root, fmt, with_status=True, title=title, stats=stats,
                        last_failure=last)
 

@@ -62,7 +62,7 @@ def test_capture_matches_tick_log(demo_run):
         assert stats[names.index(rec)][0] >= 1 and stats[names.index(rec)][1] >= 1
     assert footer["last_failure"] and names[footer["last_failure"][-1]] == "FollowPath"
     svg = (demo_run / "tree.svg").read_text()
-    assert "ticks, " in svg and "smach_recovery" in svg and "#d62728" in svg
+    assert "ticks, " in svg and "SmachRecovery" in svg and "#d62728" in svg  # main_tree as title
 
 
 def test_amcl_run_shows_particles_and_localisation_error(tmp_path):
