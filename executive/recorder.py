@@ -205,6 +205,7 @@ class Recorder:
         self.stream = stream
         self.timing = timing  # wall-clock figures: kept apart, they differ run to run
         self.sinks = list(sinks or [])
+        self.sink_errors: list[str] = []  # sinks dropped after raising, with why
         self._nodes: list[py_trees.behaviour.Behaviour] = []
         self._last_status: list[str] = []
         self.ticks = 0
@@ -236,8 +237,7 @@ class Recorder:
         self._last_status = [py_trees.common.Status.INVALID] * len(self._nodes)
         header = dict(meta, nodes=table)
         self._write({"header": header})
-        for sink in self.sinks:
-            sink.start(header, self._executive)
+        self._to_sinks("start", header, self._executive)
 
     def node_index(self, node: py_trees.behaviour.Behaviour) -> int:
         for i, n in enumerate(self._nodes):
@@ -276,8 +276,8 @@ class Recorder:
             self.timing.write(json.dumps({"tick": tick, "overrun_ms": round(overrun_ms, 3)},
                                          separators=(",", ":")) + "\n")
         self._write(line)
-        for sink in self.sinks:
-            sink.tick(line, self._executive)
+        if self.sinks:
+            self._to_sinks("tick", line, self._executive)
         return line
 
     def footer(self, summary: dict[str, Any]) -> None:
@@ -286,8 +286,24 @@ class Recorder:
                            last_failure=self.node_stats.last_failure,
                            last_failure_tick=self.node_stats.last_failure_tick)
         self._write({"footer": summary})
-        for sink in self.sinks:
-            sink.finish(summary)
+        self._to_sinks("finish", summary)
+
+    def _to_sinks(self, method: str, *args: Any) -> None:
+        """Call ``method`` on every sink; one that raises (a full disk, a broken viewer) is
+        dropped and the reason kept, and the run goes on: recording never stops the robot."""
+        for sink in list(self.sinks):
+            try:
+                getattr(sink, method)(*args)
+            except Exception as e:  # noqa: BLE001 - a recording fault must not end the run
+                self.sinks.remove(sink)
+                self.sink_errors.append(f"{type(sink).__name__}.{method}: "
+                                        f"{type(e).__name__}: {e}")
+                close = getattr(sink, "close", None)
+                if close is not None:
+                    try:
+                        close()
+                    except Exception:  # noqa: BLE001 - already failing; keep the first reason
+                        pass
 
     def close(self) -> None:
         """Close the log stream and every sink that holds a file or a server."""

@@ -104,6 +104,8 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     draw_run(grid, t.poses, paths, t.recoveries, episodes, t.goals, footprint,
              str(d / "run.png"), obstacles=obstacles, phantoms=phantoms, title=title,
              capture=capture_of(ex))
+    if ex.recorder.sink_errors:
+        summary["recording_errors"] = list(ex.recorder.sink_errors)
     fox = [s for s in ex.recorder.sinks if type(s).__name__ == "FoxgloveSink"
            and s.writer is not None]
     if fox:

@@ -103,3 +103,34 @@ def test_unrecorded_run_adds_no_visitor():
     tree = py_trees.trees.BehaviourTree(root)
     ex = Executive(tree, FakeIO(Pose2D()), SimClock(), 0.1)
     assert tree.visitors == [] and ex.recorder.node_stats is None
+
+
+def test_a_failing_sink_is_dropped_and_the_run_goes_on():
+    class Broken:
+        def __init__(self):
+            self.ticks = 0
+
+        def start(self, header, executive):
+            pass
+
+        def tick(self, line, executive):
+            self.ticks += 1
+            if self.ticks == 3:
+                raise OSError("No space left on device")
+
+        def finish(self, footer):
+            pass
+
+    class Counting(Broken):
+        def tick(self, line, executive):
+            self.ticks += 1
+
+    broken, counting = Broken(), Counting()
+    root = _status_leaf("x", [Status.RUNNING])
+    rec = Recorder(None, sinks=[broken, counting])
+    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D()), SimClock(), 0.1,
+                   recorder=rec)
+    for _ in range(6):
+        ex.step()
+    assert broken.ticks == 3 and counting.ticks == 6 and rec.sinks == [counting]
+    assert rec.sink_errors == ["Broken.tick: OSError: No space left on device"]
