@@ -146,3 +146,20 @@ def test_first_blocked_path_pose_on_the_grid():
     assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE - 1) == (15, 253)
     assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE - 1, True) == (11, 255)
     assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE) is None
+
+
+def test_back_off_trail_goes_back_from_the_nearest_pose_to_a_free_one():
+    from navcore.motion.trail import back_off_trail
+    history = [Pose2D(0.1 * i, 0.0, 0.0) for i in range(21)]          # 0 .. 2 m along x
+    trail = back_off_trail(history, Pose2D(1.52, 0.03, 0.0), 0.5, 2.0)
+    assert trail[0].x == pytest.approx(1.5) and trail[-1].x == pytest.approx(1.0)
+    assert [p.x for p in trail] == sorted((p.x for p in trail), reverse=True)
+    class Tight:                                                        # inscribed before 0.75
+        def footprint_cost(self, x, y, t):
+            return INSCRIBED_INFLATED_OBSTACLE if x >= 0.75 else 0
+    longer = back_off_trail(history, Pose2D(1.5, 0.0, 0.0), 0.5, 2.0, Tight())
+    assert longer[-1].x == pytest.approx(0.7)                          # on to the first free pose
+    capped = back_off_trail(history, Pose2D(1.5, 0.0, 0.0), 0.5, 0.6, Tight())
+    assert capped[-1].x == pytest.approx(0.9)                          # no further than 0.6 m
+    assert back_off_trail([], Pose2D(), 0.5, 2.0) == []
+    assert back_off_trail(history[:1], Pose2D(), 0.5, 2.0, Tight()) == []  # nowhere to go

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
-from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.motion.geometry import heading_to
+from navcore.motion.trail import back_off_trail
 from navcore.types import Pose2D
 from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
@@ -46,31 +46,11 @@ class BackOffToPreviousPose(RecoveryAction):
 
     def initialise(self) -> None:
         self._start = self.clock.now()
-        self._trail = self._plan_trail(self.robot.pose(), self.read("pose_history") or [])
+        self._trail = back_off_trail(self.read("pose_history") or [], self.robot.pose(),
+                                     self.get_input("distance"), self.get_input("max_distance"),
+                                     self.collision_map())
         self._i = 0
         self.start_progress_check(self.robot.pose())
-
-    def _plan_trail(self, pose: Pose2D, history: list[Pose2D]) -> list[Pose2D]:
-        """Poses from the one nearest the robot back ``distance`` metres (or on to the first
-        pose free of inscribed cost, within ``max_distance``), newest first."""
-        if not history:
-            return []
-        near = min(range(len(history)), key=lambda i: history[i].distance_to(pose))
-        want = self.get_input("distance")
-        limit = max(want, self.get_input("max_distance"))
-        handle = self.collision_map()
-        trail, travelled = [], 0.0
-        prev = history[near]
-        for p in reversed(history[:near + 1]):
-            travelled += p.distance_to(prev)
-            if travelled > limit + 1e-9:
-                break
-            trail.append(p)
-            prev = p
-            if travelled >= want and (handle is None or 0 <= int(handle.footprint_cost(
-                    p.x, p.y, p.theta)) < INSCRIBED_INFLATED_OBSTACLE):
-                break
-        return trail if travelled > 0.0 else []
 
     def update(self) -> Status:
         pose = self.robot.pose()
