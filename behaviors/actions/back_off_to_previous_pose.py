@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.motion.geometry import heading_to
 from navcore.motion.trail import back_off_trail
 from navcore.types import Pose2D
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
 
 class BackOffToPreviousPose(RecoveryAction):

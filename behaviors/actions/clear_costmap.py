@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from behaviors.actions.recovery_action import COSTMAP_CHOICES, RecoveryAction
 from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
 from navcore.types import Pose2D
-from behaviors.actions.recovery_action import COSTMAP_CHOICES, RecoveryAction
 
 
 class ClearCostmap(RecoveryAction):

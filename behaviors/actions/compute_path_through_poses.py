@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 from behaviors.base import PortInformation, Status
 from navcore.error_codes import PlannerError
 from navcore.types import Path
-from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 
 
 class ComputePathThroughPoses(PlanningAction):

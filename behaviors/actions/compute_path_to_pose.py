@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
+from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 from behaviors.base import PortInformation, Status
 from navcore.error_codes import PlannerError
 from navcore.types import Pose2D
-from behaviors.actions.planning import PlanningAction, PLAN_IN, PLAN_OUT
 
 
 class ComputePathToPose(PlanningAction):

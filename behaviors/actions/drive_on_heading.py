@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import BackUpError, DriveOnHeadingError
 from navcore.types import Pose2D, Twist
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
 
 class DriveOnHeading(RecoveryAction):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
 from behaviors.actions.recovery_action import RecoveryAction
+from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
 
 
 class ReinitializeGlobalLocalization(RecoveryAction):

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.motion.escape import arc_goal, rank_candidates
 from navcore.motion.geometry import ring_candidates
 from navcore.types import Pose2D, Twist
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
 
 
 # arc searches per run: a blocked arc is replaced by a new one from where the robot stands

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from behaviors.base import RUNNING, SUCCESS, Port, PortInformation, Status
 from behaviors.actions.recovery_action import ERROR_CODE_OUT, RecoveryAction
+from behaviors.base import RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import WaitError
 
 

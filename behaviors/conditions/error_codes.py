@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, PortInformation, Status
-from navcore.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
 from behaviors.conditions.condition import Condition, yes
+from navcore.error_codes import CONTROLLER_RECOVERABLE, PLANNER_RECOVERABLE
 
 
 class WouldRecoveryHelp(Condition):

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, Port, PortInformation, Status
-from navcore.types import Pose2D
 from behaviors.conditions.condition import Condition, yes
+from navcore.types import Pose2D
 
 
 class GoalReached(Condition):

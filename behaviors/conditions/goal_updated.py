@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, INVALID, PortInformation, Status
-from navcore.types import Pose2D
 from behaviors.conditions.condition import Condition, yes
+from navcore.types import Pose2D
 
 
 class GoalUpdated(Condition):

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 from behaviors.base import FAILURE, Port, PortInformation, Status
-from navcore.path_ops import closest_pose_index
-from navcore.motion.path_progress import length_to_go, remaining_length
-from navcore.types import Path
 from behaviors.conditions.condition import Condition, yes
+from navcore.motion.path_progress import length_to_go, remaining_length
+from navcore.path_ops import closest_pose_index
+from navcore.types import Path
 
 
 class IsGoalNearby(Condition):

@@ -6,9 +6,9 @@ import math
 from typing import Any
 
 from behaviors.base import FAILURE, Port, PortInformation, Status
-from navcore.types import Pose2D
 from behaviors.conditions.condition import Condition, yes
 from navcore.controllers.progress import ProgressChecker
+from navcore.types import Pose2D
 
 
 class IsOscillating(Condition):

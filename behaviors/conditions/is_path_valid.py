@@ -5,10 +5,10 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
+from behaviors.conditions.condition import Condition
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.costmap.path_check import first_blocked
 from navcore.types import Path
-from behaviors.conditions.condition import Condition
 
 
 class IsPathValid(Condition):

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import Control, Port, PortInformation, namespaced, Ticking
-from navcore.types import Pose2D
 from behaviors.actions.compute_path_to_pose import ComputePathToPose
 from behaviors.actions.follow_path import FollowPath
+from behaviors.base import Control, Port, PortInformation, namespaced, Ticking
 from behaviors.controls.pipeline_sequence import PipelineSequence
 from behaviors.decorators.rate_controller import RateController
+from navcore.types import Pose2D
 
 
 class NavigateToPose(Control):

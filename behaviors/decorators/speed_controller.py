@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 from behaviors.base import Port, PortInformation
-from behaviors.decorators.throttle import Throttle
 from behaviors.decorators.distance_controller import UsesRobot
+from behaviors.decorators.throttle import Throttle
 
 
 class SpeedController(Throttle, UsesRobot):
