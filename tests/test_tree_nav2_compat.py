@@ -258,3 +258,27 @@ def test_shipped_nav2_tree_exports_with_nav2_ports_only():
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
     assert sorted(c.get_input("costmap") for c in clears) == ["global", "global", "local",
                                                               "local"]
+
+
+def test_mission_run_follows_the_nav2_distro_option(tmp_path, capsys):
+    """mission run --nav2-distro: a one-child RoundRobin succeeds with Jazzy's rule (always
+    wraps) and fails with main's (no wrap by default: the end of the list is FAILURE)."""
+    from pathlib import Path
+
+    from executive.cli import main
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4" main_tree_to_execute="T">
+          <BehaviorTree ID="T">
+            <RoundRobin><Wait wait_duration="0.1"/></RoundRobin>
+          </BehaviorTree>
+        </root>
+        """)
+    office = str(Path(__file__).resolve().parent.parent / "executive/data/maps/office.yaml")
+    args = ["run", str(p), "--map", office, "--start", "2,2.2,0", "--goal", "2.5,2.2",
+            "--time-limit", "2.0"]
+    assert main(args) == 0                                     # default: jazzy
+    assert main(args + ["--nav2-distro", "main"]) == 1
+    capsys.readouterr()
+    with pytest.raises(SystemExit):
+        main(args + ["--nav2-distro", "iron"])                 # argparse refuses it
+    assert "invalid choice: 'iron'" in capsys.readouterr().err

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from executive.commands._common import (add_config_arguments, fail, load_config_from_args,
-                                        parse_pose, print_config_warnings)
+from executive.commands._common import (add_config_arguments, add_nav2_distro, fail,
+                                        load_config_from_args, parse_pose,
+                                        print_config_warnings)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,6 +34,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "0: as fast as it runs)")
     p.add_argument("--seed", type=int, default=0, help="simulator random seed (default 0)")
     p.add_argument("--time-limit", type=float, default=600.0, help="simulated seconds (600)")
+    add_nav2_distro(p)
     hw = p.add_mutually_exclusive_group()
     hw.add_argument("--hw", action="store_true",
                     help="drive the real robot of the config's robot.devices instead of the "
@@ -87,8 +89,14 @@ def run(args: argparse.Namespace) -> int:
     elif args.bag:
         return fail("run", "--bag needs --record DIR (the bag goes into the run folder)")
     try:
+        tree = args.tree
+        if args.nav2_distro:  # the semantics of that Nav2 distribution (docs/trees.md)
+            from executive.loading import load_tree_file
+            tree = load_tree_file(args.tree, namespace="/mission_run",
+                                  nav2_distro=args.nav2_distro,
+                                  port_defaults=config.port_defaults())
         # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
-        nav = open_mission(args.tree, config, grid, args.start, seed=args.seed,
+        nav = open_mission(tree, config, grid, args.start, seed=args.seed,
                            realtime=args.realtime, recorder=recorder,
                            hardware="emulated" if args.hw_emulated else args.hw)
     except (TreeLoadError, WiringError) as e:
