@@ -139,3 +139,12 @@ def test_feedback_distance_runs_along_the_path_from_its_nearest_pose():
     assert _remaining(None, Pose2D(0.0, 0.0), Pose2D(3.0, 4.0)) == pytest.approx(5.0)
     assert _remaining(Path(np.zeros((0, 3))), Pose2D(), Pose2D(0.0, 2.0)) == pytest.approx(2.0)
     assert math.isfinite(_remaining(path, Pose2D(-1.0, 0.0), Pose2D()))
+
+
+def test_the_package_offers_every_api_name_and_only_those():
+    import executive
+    from executive import api
+    assert sorted(executive.__all__) == sorted(api.__all__)
+    assert all(getattr(executive, name) is getattr(api, name) for name in api.__all__)
+    with pytest.raises(AttributeError, match="no attribute 'nope'"):
+        executive.nope
