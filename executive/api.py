@@ -43,7 +43,8 @@ from executive.world import World, free_start
 
 __all__ = ["load_tree", "parse_tree", "load_config", "load_map", "shipped_tree", "free_start",
            "open_mission", "Navigator", "Feedback", "MissionResult",
-           "World", "Pose2D", "RobotIO", "TreeLoadError", "ConfigError", "WiringError"]
+           "World", "Pose2D", "RobotIO", "TreeLoadError", "ConfigError", "WiringError",
+           "ConfigSources"]
 
 
 def _namespace() -> str:
