@@ -20,7 +20,7 @@ from xml.sax.saxutils import quoteattr
 from behaviors.base import NavNode
 from behaviors.registry import category
 from executive import nav2_model
-from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where
+from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors, Where
 from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, read_bytes
 from navcore.types import Pose2D
 
@@ -132,27 +132,35 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
                   source=file, from_text=True, nav2_distro=distro,
                   main_key="main_tree_to_execute", comments=root.comments)
     doc.btcpp_format = root.attrs.get("BTCPP_format")
+    errors: list[TreeError] = []  # reported together, as the builder's
     for el in root.children:
         where = Where(file, el.line)
         if el.tag == "BehaviorTree":
             tid = el.attrs.get("ID")
             if not tid:
-                raise TreeError(f"{where}: <BehaviorTree> needs an ID")
-            if len(el.children) != 1:
-                raise TreeError(f"{where}: <BehaviorTree ID='{tid}'> must hold exactly one root "
-                                f"node, has {len(el.children)}")
-            doc.trees[tid] = _node(el.children[0], file)
-            doc.trees[tid].comments[:0] = el.comments
-            doc.tree_where[tid] = where
+                errors.append(TreeError(f"{where}: <BehaviorTree> needs an ID"))
+            elif len(el.children) != 1:
+                errors.append(TreeError(f"{where}: <BehaviorTree ID='{tid}'> must hold exactly "
+                                        f"one root node, has {len(el.children)}"))
+            elif tid in doc.trees:
+                errors.append(TreeError(f"{where}: tree '{tid}' is also defined at "
+                                        f"{doc.tree_where[tid]}"))
+            else:
+                doc.trees[tid] = _node(el.children[0], file)
+                doc.trees[tid].comments[:0] = el.comments
+                doc.tree_where[tid] = where
         elif el.tag.lower() in ("include", "import"):
             src = el.attrs.get("path") or el.attrs.get("file") or el.attrs.get("src")
             if not src:
-                raise TreeError(f"{where}: <{el.tag}> needs a 'path' attribute")
+                errors.append(TreeError(f"{where}: <{el.tag}> needs a 'path' attribute"))
+                continue
             doc.include(src, where, lambda target: read_xml(target, (*_stack, real)))
         elif el.tag == "TreeNodesModel":
             continue
         else:
-            raise TreeError(f"{where}: unexpected <{el.tag}> under <root>")
+            errors.append(TreeError(f"{where}: unexpected <{el.tag}> under <root>"))
+    if errors:
+        raise TreeErrors(errors) if len(errors) > 1 else errors[0]
     return doc
 
 

@@ -282,3 +282,20 @@ def test_mission_run_follows_the_nav2_distro_option(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(args + ["--nav2-distro", "iron"])                 # argparse refuses it
     assert "invalid choice: 'iron'" in capsys.readouterr().err
+
+
+def test_xml_structure_errors_are_reported_together(tmp_path):
+    p = write(tmp_path, "t.xml", """
+        <root BTCPP_format="4" main_tree_to_execute="T">
+          <BehaviorTree ID="T"><Wait/></BehaviorTree>
+          <BehaviorTree><Wait/></BehaviorTree>
+          <BehaviorTree ID="T"><Wait/></BehaviorTree>
+          <Blackboard/>
+        </root>
+        """)
+    with pytest.raises(TreeErrors) as e:
+        load_xml(p)
+    lines = [str(x) for x in e.value.errors]
+    assert lines[0].endswith("t.xml:3: <BehaviorTree> needs an ID")
+    assert lines[1].endswith("t.xml:4: tree 'T' is also defined at " f"{p}:2")
+    assert lines[2].endswith("t.xml:5: unexpected <Blackboard> under <root>")
