@@ -154,6 +154,15 @@ def test_merged_config_errors_are_reported_by_check(tmp_path):
     assert errors[0].startswith(f"{p}:21: DWAPlannerROS: unknown parameter 'max_vel_xx'")
 
 
+def test_check_reports_bad_parameter_changes_of_events(tmp_path):
+    from executive.commands.scenario_cmd import check_files
+    p = _scenario(tmp_path, "start: [0.5, 0.5]\ngoals: [[3, 0.5]]\nevents:\n"
+                            "  - {at: 1, set: {DWAPlannerROS: {max_vel_x: -5, max_vel_xx: 1}}}\n")
+    loaded, errors = check_files([str(p)])
+    assert len(errors) == 1 and errors[0].startswith(f"{p}:21: events[0].set.DWAPlannerROS")
+    assert "unknown parameter 'max_vel_xx'" in errors[0]
+
+
 def test_seeds_syntax():
     assert parse_seeds("1..4") == [1, 2, 3, 4]
     assert parse_seeds("7") == [7]

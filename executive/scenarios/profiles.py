@@ -175,8 +175,9 @@ def config_problems(scenario: Any, src: Source | None = None, base: Any = None
                     ) -> list[str]:
     """Problems of the merged config (profile and parameter errors), as file:line: what."""
     from executive.config import ConfigError
+    from navcore.params import ParameterError, Parameters
     try:
-        scenario_config(scenario, base)
+        config = scenario_config(scenario, base)
     except ScenarioError as e:
         return e.errors
     except ConfigError as e:
@@ -184,4 +185,19 @@ def config_problems(scenario: Any, src: Source | None = None, base: Any = None
         return [f"{line}" if line.startswith(scenario.source) or ":" in line.split(" ")[0]
                 else f"{scenario.source}: merged robot config: {line}"
                 for line in str(e).splitlines() if line.strip()]
-    return []
+    # a parameter change an event makes, checked against the namespace's declared table (the
+    # costmaps' layer namespaces exist only once built: those are checked when the event fires)
+    live = config.all_parameters()
+    errs = []
+    for i, ev in enumerate(scenario.events):
+        if ev.action != "set":
+            continue
+        for ns, values in ev.arg.items():
+            where = (src.where(("events", i, "set", ns)) if src is not None
+                     else f"{scenario.source}: events[{i}].set.{ns}")
+            if ns in live:
+                try:
+                    Parameters(live[ns].specs(), live[ns].as_dict(), where=where).set(values)
+                except ParameterError as e:
+                    errs.append(str(e))
+    return errs
