@@ -220,6 +220,22 @@ def test_maps_and_profiles_beside_scenarios_are_not_scenarios(tmp_path):
     assert sc.grid.width == 4 and scenario_config(sc).robot.robot_radius == 0.2
 
 
+@pytest.mark.parametrize("unknown,blocked", [("free", 0), ("solid", 1)])
+def test_unknown_cells_in_the_simulated_world(tmp_path, unknown, blocked):
+    """The map keeps its unknown cells (the costmaps see them as unknown); the simulated world
+    makes them solid or free as the scenario says."""
+    from executive.api import open_mission
+    from executive.world import World
+    p = tmp_path / "u.yaml"
+    p.write_text(f"map:\n  resolution: 0.1\n  unknown: {unknown}\n  ascii: |\n"
+                 "    ##########\n    #S..??..G#\n    #...??...#\n    ##########\n")
+    s = load_scenario(p)
+    assert s.unknown_solid == (unknown == "solid") and s.grid.data[1, 4] == -1
+    with open_mission(SMACH, scenario_config(s), s.grid, s.start,
+                      world=World(unknown_solid=s.unknown_solid)) as nav:
+        assert nav.sim.world.blocked[1, 4] == blocked and nav.sim.world.blocked[1, 2] == 0
+
+
 def test_absent_real_data_is_skipped_with_the_reason(tmp_path, monkeypatch):
     monkeypatch.setenv("NAVBT_DATA", str(tmp_path / "nowhere"))
     s = tmp_path / "real.yaml"

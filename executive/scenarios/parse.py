@@ -15,6 +15,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError,
+                                 PlannerError, RecoveryError, SpinError, WaitError)
 from navcore.maps import MapError, OccupancyGrid, load_map
 from navcore.params import suggest
 from navcore.types import Pose2D
@@ -34,9 +36,6 @@ RECOVERY_KEYS = ("all_of", "any_of", "none_of", "at_least", "at_most", "order")
 MAP_KEYS = ("file", "data", "ascii", "resolution", "unknown")
 EVENT_KEYS = ("at", "name") + EVENT_ACTIONS + ("to",)
 # Nav2 error-code names an end reason may take, plus the executive's own ends.
-from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError,  # noqa: E402
-                                 PlannerError, RecoveryError, SpinError, WaitError)
-
 CODE_ENUMS = (PlannerError, ControllerError, SpinError, BackUpError, DriveOnHeadingError,
               WaitError, RecoveryError)    # their value ranges do not overlap
 REASON_NAMES = tuple(dict.fromkeys(
