@@ -76,13 +76,18 @@ class _Arrivals:
     def __init__(self) -> None:
         self.stamp: float | None = None
         self.arrived: float | None = None
-        self.spacings: deque[float] = deque(maxlen=20)
+        self.spacings: deque[float] = deque(maxlen=200)
         self.missing = False
 
     def missed(self, stamp: float, now: float) -> bool:
         if stamp != self.stamp:  # a new message
-            if self.arrived is not None and not self.missing:
-                self.spacings.append(now - self.arrived)
+            if self.arrived is not None:
+                gap = now - self.arrived
+                # a gap up to twice the usual one is the sensor's jitter (a 10 Hz laser read by
+                # a 10 Hz loop sometimes skips a cycle): learnt, so that it stops the robot once
+                # at most; a longer one was a drop-out and is not
+                if not self.missing or (self.spacings and gap <= 2.0 * max(self.spacings)):
+                    self.spacings.append(gap)
             self.stamp, self.arrived, self.missing = stamp, now, False
             return False
         if len(self.spacings) >= 3 and self.arrived is not None:

@@ -202,3 +202,15 @@ def test_watchdog_stops_a_stalled_loop_once() -> None:
     time.sleep(0.15)
     assert stops == [1.0] and dog.fired == 1
     dog.close()
+
+
+def test_a_sensor_that_sometimes_skips_a_cycle_stops_the_robot_once_only() -> None:
+    f = Feed()
+    _healthy(f, 20)
+    assert "stale_laser" in f.tick(scan=False).faults  # the first skip: unknown jitter
+    _healthy(f, 5)
+    for _ in range(10):                                 # from now on a skip is jitter
+        assert f.tick(scan=False).faults == []
+        _healthy(f, 3)
+    f.tick(scan=False)
+    assert "stale_laser" in f.tick(scan=False).faults   # two in a row is more than jitter
