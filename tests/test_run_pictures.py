@@ -13,8 +13,9 @@ from executive.recorder import read_log
 
 
 def _colours(img: Image.Image, box: tuple[int, int, int, int]) -> set[tuple[int, int, int]]:
-    crop = np.asarray(img.crop(box).convert("RGB")).reshape(-1, 3)
-    return {tuple(int(v) for v in c) for c in np.unique(crop, axis=0)}
+    crop = np.asarray(img.crop(box).convert("RGB")).reshape(-1, 3).astype(np.int64)
+    keys = np.unique((crop[:, 0] << 16) | (crop[:, 1] << 8) | crop[:, 2])
+    return {(int(k >> 16), int(k >> 8 & 255), int(k & 255)) for k in keys}
 
 
 def test_run_png_has_map_side_panel_and_plots(demo_run):
