@@ -20,7 +20,7 @@ TEXTS = [p.read_text(encoding="utf-8") for p in SEEDS]
 TOKENS = ["", "-", "1e999", "nan", "[", "]", "{", "}", ":", "null", "true", "0", "-1",
           "'x'", "1..0", "box", "circle", "at", "goal", "&a", "*a", "<<: *a", "!!binary x",
           "?", "\t", "\"", "99999999999999999999999999", "[1, 2]", "{box: [0,0,0,0]}",
-          "after_recovery", "expect", "seeds", "profile", "data", "#", "\x00"]
+          "after_recovery", "while_recovery", "expect", "seeds", "profile", "data", "#", "\x00"]
 
 NAME = "mut.yaml"
 LOCATED = re.compile(r"^mut\.yaml:\d+: ")

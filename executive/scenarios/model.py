@@ -36,13 +36,16 @@ EVENT_ACTIONS = ("goal", "add_goal", "add", "remove", "fault", "end_fault", "pha
 @dataclass
 class Event:
     """Something that happens during a run: at ``at`` seconds, or ``delay`` seconds after the
-    first recovery whose type or name is ``after_recovery`` (``any`` for any) starts."""
+    first recovery whose type or name is ``after_recovery`` (``any`` for any) starts, or once
+    such a recovery has been running for ``delay`` seconds (``while_recovery``: it is still
+    running then, so a goal given at that moment must pre-empt it)."""
 
     name: str
     action: str
     arg: Any
     at: float | None = None
     after_recovery: str = ""
+    while_recovery: str = ""
     delay: float = 0.0
     to: Any = None          # move_phantom: the new shape
 

@@ -500,17 +500,22 @@ def _events(pb: Problems, v: Any, objects: dict[str, Shape], phantoms: set[str])
             names.add(name)
             e = Event(name, action, None)
             if "at" not in d:
-                pb.add(p, "needs 'at': seconds, or {after_recovery: TYPE|NAME|any, delay: S}")
+                pb.add(p, "needs 'at': seconds, or {after_recovery: TYPE|NAME|any, delay: S}"
+                          " or {while_recovery: TYPE|NAME|any, delay: S}")
                 continue
             at = d["at"]
             if isinstance(at, Mapping):
-                a = _mapping(pb, p + ("at",), at, ("after_recovery", "delay"))
-                rec = a.get("after_recovery")
-                if not isinstance(rec, str) or not rec:
-                    pb.add(p + ("at", "after_recovery"), f"expected a recovery type, name or "
-                                                         f"'any', got {rec!r}")
+                a = _mapping(pb, p + ("at",), at, ("after_recovery", "while_recovery", "delay"))
+                which = [k for k in ("after_recovery", "while_recovery") if k in a]
+                if len(which) != 1:
+                    pb.add(p + ("at",), "give one of after_recovery or while_recovery")
                     continue
-                e.after_recovery = rec
+                rec = a[which[0]]
+                if not isinstance(rec, str) or not rec:
+                    pb.add(p + ("at", which[0]), f"expected a recovery type, name or 'any', "
+                                                 f"got {rec!r}")
+                    continue
+                setattr(e, which[0], rec)
                 e.delay = _num(pb, p + ("at", "delay"), a.get("delay", 0.0), 0.0)
             else:
                 e.at = _num(pb, p + ("at",), at, 0.0)

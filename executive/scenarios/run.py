@@ -53,6 +53,7 @@ class ScenarioResult:
     goals_reached: int = 0
     goals_total: int = 0
     distance: float = 0.0          # path driven (m)
+    events: dict[str, float] = field(default_factory=dict)   # event name -> time it fired (s)
 
     @property
     def recovery_types(self) -> list[str]:
@@ -67,7 +68,8 @@ class ScenarioResult:
                 "distance_to_goal_m": (None if self.distance_to_goal is None
                                        else round(self.distance_to_goal, 3)),
                 "goals_reached": self.goals_reached, "goals_total": self.goals_total,
-                "distance_m": round(self.distance, 3), "recoveries": self.recoveries, "contacts": self.collisions,
+                "distance_m": round(self.distance, 3),
+                "events": {k: round(v, 3) for k, v in self.events.items()}, "recoveries": self.recoveries, "contacts": self.collisions,
                 "sim_time_s": round(self.sim_time, 3), "wall_time_s": round(self.wall_time, 3),
                 "run_dir": self.run_dir, "source": self.source}
 
@@ -171,6 +173,7 @@ class _Events:
 
     def __init__(self, scenario: Scenario, mission: Any, goals: list[Pose2D]) -> None:
         self.pending = list(scenario.events)
+        self.t0 = 0.0           # the clock at the start: event times are relative to it
         self.mission = mission
         self.goals = goals
         self.fired: dict[str, float] = {}
@@ -185,9 +188,12 @@ class _Events:
     def due(self, ev: Event, now: float, recoveries: list[dict[str, Any]]) -> bool:
         if ev.at is not None:
             return now >= ev.at - 1e-9
+        if ev.while_recovery:   # a matching recovery still running, for ``delay`` s so far
+            return any(r["end"] is None and ev.while_recovery in ("any", r["type"], r["name"])
+                       and now + self.t0 >= r["t"] + ev.delay - 1e-9 for r in recoveries)
         first = next((r for r in recoveries if ev.after_recovery in ("any", r["type"], r["name"])),
                      None)
-        return first is not None and now >= first["t"] + ev.delay - 1e-9
+        return first is not None and now + self.t0 >= first["t"] + ev.delay - 1e-9
 
     def apply_due(self, now: float, index: int, recoveries: list[dict[str, Any]]) -> None:
         if not self.pending:
@@ -346,6 +352,7 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
             task = Task(ex, list(sc.goals), sc.time_limit)
             events = _Events(sc, nav.mission, task.goals)
             t0 = task.t0
+            events.t0 = t0
             tracker.now = t0
             preempts: list[tuple[str, float, float]] = []
             ticks = [0]
@@ -420,7 +427,8 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
         outcome == "succeeded" and collisions == 0, not failures, failures, reason, detail,
         record_dir, scenario.known_issue_for(tree_name), seed, sc.source,
         [round(truth.x, 3), round(truth.y, 3), round(truth.theta, 3)],
-        math.hypot(truth.x - goal.x, truth.y - goal.y), reached, len(goals), result.distance)
+        math.hypot(truth.x - goal.x, truth.y - goal.y), reached, len(goals), result.distance,
+        dict(events.fired))
 
 
 # --------------------------------------------------------------------------- batches

@@ -339,13 +339,14 @@ write("stale_gap_global_only",
 g = G(70, 24)
 g.fill(30, 1, 31, 22, "#"); g.fill(30, 7, 31, 16, "P")
 write("goal_changed_during_recovery",
-      "The way to the first goal is blocked by a stale obstacle, so a recovery starts. Half a "
-      "second into it the operator sends a new goal the other way. The new goal must pre-empt the "
+      "The way to the first goal is blocked by a stale obstacle, so recoveries start. Half a "
+      "second into the first one that lasts (a clear is over at once) the operator sends a new "
+      "goal the other way. The new goal must pre-empt the "
       "recovery at once (within a control period or two) and the robot drive to it.", g, """
       start: [4.5, 1.2, 0.0]
       goals: [[1.2, 1.2, 3.1416]]
       events:
-        - {name: new_goal, at: {after_recovery: any, delay: 0.5}, goal: [6.2, 1.2, 0.0]}
+        - {name: new_goal, at: {while_recovery: any, delay: 0.5}, goal: [6.2, 1.2, 0.0]}
       time_limit: 60
       expect:
         outcome: succeeded
