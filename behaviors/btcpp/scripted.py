@@ -7,10 +7,12 @@ from typing import Any, Callable, ClassVar
 
 import py_trees
 
-from behaviors.base import FAILURE, SUCCESS, Status
+from behaviors.base import FAILURE, RUNNING, SUCCESS, Status
 from behaviors.btcpp.scripting import Program, compile_script, namespace_resolver
 
 STORAGE = py_trees.blackboard.Blackboard.storage  # the process-wide key -> value dict
+# Status names a tree may give (Precondition's else, a Loop's if_empty); None is SKIPPED.
+STATUS_NAMES = {"SUCCESS": SUCCESS, "FAILURE": FAILURE, "RUNNING": RUNNING, "SKIPPED": None}
 
 
 def skipped_status(node: py_trees.behaviour.Behaviour) -> Status:

@@ -1,6 +1,5 @@
-"""ComputeRoute, ExtractRouteNodesAsGoals (Nav2 actions) and WouldARouteRecoveryHelp (Nav2
-condition): routes on the route graph handed to ``setup`` as ``route_graph`` (a
-navcore.route.RouteGraph from a Nav2 GeoJSON file; the robot config's
+"""ComputeRoute (Nav2 action): routes on the route graph handed to ``setup`` as
+``route_graph`` (a navcore.route.RouteGraph from a Nav2 GeoJSON file; the robot config's
 ``route_server.graph_filepath``)."""
 
 from __future__ import annotations
@@ -8,8 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, PortInformation, Status
-from behaviors.conditions.error_codes import WouldRecoveryHelp
-from navcore.error_codes import ROUTE_RECOVERABLE, RouteErrorCode
+from navcore.error_codes import RouteErrorCode
 from navcore.route import Route, RouteError, densify, find_route, route_between_poses
 from navcore.types import Path, Pose2D
 
@@ -85,34 +83,3 @@ class ComputeRoute(Leaf):
         self.write("error_msg", msg)
         self.say(msg)
         return FAILURE
-
-
-class ExtractRouteNodesAsGoals(Leaf):
-    """Write the positions of ``route``'s nodes as ``goals`` (heading 0); FAILURE for a route
-    without nodes (Nav2 ``ExtractRouteNodesAsGoals``)."""
-
-    INPUT_PORTS = {"route": PortInformation(Route, True, "a route from ComputeRoute")}
-    OUTPUT_PORTS = {"goals": PortInformation(list, True, "node positions, Pose2D")}
-
-    def setup(self, **kwargs: Any) -> None:
-        pass
-
-    def update(self) -> Status:
-        route = self.read("route")
-        if route is None or not route.nodes:
-            self.say("the route has no nodes")
-            return FAILURE
-        self.write("goals", [Pose2D(n.x, n.y, 0.0) for n in route.nodes])
-        return SUCCESS
-
-
-class WouldARouteRecoveryHelp(WouldRecoveryHelp):
-    """SUCCESS when the last route error code is one a recovery can fix (Nav2 defaults:
-    UNKNOWN, NO_VALID_ROUTE, TIMEOUT of ComputeRoute and ComputeAndTrackRoute)."""
-
-    INPUT_PORTS = {
-        "error_code": PortInformation(int, True, "ComputeRoute error code"),
-        "error_codes_to_check": PortInformation(list, False, "codes a recovery may fix",
-                                                ROUTE_RECOVERABLE),
-    }
-    DEFAULT_KEYS = {"error_code": "compute_route_error_code"}

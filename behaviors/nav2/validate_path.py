@@ -1,5 +1,5 @@
-"""PathExpiringTimer, IsWithinPathTrackingBounds (Nav2 conditions) and ValidatePath (Nav2
-main action: the costmap check of IsPathValid with the colliding poses as output)."""
+"""ValidatePath (Nav2 main action): the costmap check of IsPathValid, with the colliding
+poses as output."""
 
 from __future__ import annotations
 
@@ -8,74 +8,7 @@ from typing import Any
 from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
 from behaviors.conditions.condition import Condition
 from navcore.costmap.cost_values import LETHAL_OBSTACLE, NO_INFORMATION
-from navcore.path_ops import TrackingFeedback
 from navcore.types import Path
-
-
-class PathExpiringTimer(Condition):
-    """SUCCESS once ``seconds`` passed since the timer started, which restarts it; FAILURE
-    before. A new ``path`` restarts the timer. The first tick of the node's life starts it and
-    returns FAILURE (Nav2 ``PathExpiringTimer``: its memory outlives halts)."""
-
-    INPUT_PORTS = {
-        "seconds": PortInformation(float, False, "period, s", 1.0),
-        "path": PortInformation(Path, False, "path whose change restarts the timer"),
-    }
-    OUTPUT_PORTS: dict[str, PortInformation] = {}
-    DEFAULT_KEYS = {"path": "path"}
-
-    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
-        super().__init__(*args, **kwargs)
-        self._first = True
-
-    def update(self) -> Status:
-        now, path = self.clock.now(), self.read("path")
-        if self._first:
-            self._first, self._path, self._start = False, path, now
-            self._period = self.get_input("seconds")
-            return FAILURE
-        if path is not self._path:
-            self._path, self._start = path, now
-        if now - self._start < self._period:
-            self.say("{:.1f} of {:.1f} s", now - self._start, self._period)
-            return FAILURE
-        self._start = now
-        return SUCCESS
-
-    def new_run(self) -> None:
-        self._first = True
-
-
-class IsWithinPathTrackingBounds(Condition):
-    """SUCCESS while FollowPath's ``tracking_feedback`` is within bounds: cross-track error
-    at most ``max_error_left`` m (robot left of the path) or ``max_error_right`` m (right), and
-    heading error at most ``max_error_heading`` rad (negative bounds count as their size).
-    SUCCESS also while there is no feedback yet. (Nav2 main ``IsWithinPathTrackingBounds``.)"""
-
-    INPUT_PORTS = {
-        "max_error_left": PortInformation(float, False, "allowed error left of the path, m",
-                                          0.5),
-        "max_error_right": PortInformation(float, False, "allowed error right of the path, m",
-                                           0.5),
-        "max_error_heading": PortInformation(float, False, "allowed heading error, rad", 3.14),
-        "tracking_feedback": PortInformation(TrackingFeedback, False,
-                                             "FollowPath's tracking feedback"),
-    }
-    OUTPUT_PORTS: dict[str, PortInformation] = {}
-    DEFAULT_KEYS = {"tracking_feedback": "tracking_feedback"}
-
-    def update(self) -> Status:
-        fb = self.read("tracking_feedback")
-        if fb is None:
-            return SUCCESS
-        err = fb.position_tracking_error
-        bound = abs(self.get_input("max_error_left" if err >= 0.0 else "max_error_right"))
-        ok = abs(err) <= bound and \
-            abs(fb.heading_tracking_error) <= abs(self.get_input("max_error_heading"))
-        if not ok:
-            self.say("out of tracking bounds: {:.2f} m, {:.2f} rad", err,
-                     fb.heading_tracking_error)
-        return SUCCESS if ok else FAILURE
 
 
 class ValidatePath(Condition):
