@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 from typing import Any, Mapping
 
+from executive.config_params import BEHAVIOR_SERVER_PARAMS
 from executive.ros_params import Converted, Note, ParamsError, Path_, read_yaml
 
 _AMCL = {f"alpha{i}": f"odom_alpha{i}" for i in range(1, 6)}
@@ -350,7 +351,6 @@ class _Mapper:
     def behavior_server(self, p: Mapping[str, Any], src: Path_) -> None:
         """Its motion limits are the recovery nodes' ports of the same names here
         (``behavior_server`` namespace: used where the tree leaves those ports unset)."""
-        from executive.config import BEHAVIOR_SERVER_PARAMS
         names = {q.name for q in BEHAVIOR_SERVER_PARAMS}
         for k, v in p.items():
             if k in names:

@@ -18,6 +18,7 @@ import yaml
 
 from navcore.params import Leniency, suggest
 from navcore.safe_read import compose_yaml, node_value, read_text
+from executive.config_params import MOVE_BASE_PARAMS
 
 Path_ = tuple[str, ...]
 
@@ -368,7 +369,6 @@ def move_base_to_config(tree: ParamTree, node_ns: Path_ = ("move_base",),
     both costmaps (ROS finds them by searchParam); recovery lists get a note; a costmap parameter
     at the node level is an error saying where it belongs (ROS would silently not use it).
     Parameters outside both nodes that came from ``outside_files`` are listed as ignored."""
-    from executive.config import MOVE_BASE_PARAMS
     out = out if out is not None else Converted()
     node = tree.get(node_ns)
     node = node if isinstance(node, dict) else {}
