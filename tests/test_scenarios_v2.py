@@ -304,6 +304,43 @@ def test_goal_event_preempts_a_running_recovery(tree):
     assert r.goals_reached == 1 and r.distance_to_goal < 0.3
 
 
+def test_world_fault_phantom_and_parameter_events_take_effect_at_their_time(tmp_path):
+    """Watched tick by tick: an object of the scenario removed, one added, a fault started and
+    ended, a phantom painted and moved in the global costmap, a parameter changed."""
+    p = _scenario(tmp_path, "start: [0.5, 0.6]\ngoals: [[3.4, 0.6]]\ntime_limit: 4\n"
+                            "objects: [{box: [2.0, 1.1, 2.2, 1.3], name: crate}]\n"
+                            "events:\n"
+                            "  - {at: 1.0, remove: crate}\n"
+                            "  - {at: 1.0, add: {circle: [3.0, 1.2, 0.05], name: pole}}\n"
+                            "  - {at: 1.5, fault: {kind: odom_slip, slip: 0.5}}\n"
+                            "  - {at: 2.5, end_fault: odom_slip}\n"
+                            "  - {at: 1.0, phantom: {box: [1.0, 1.0, 1.2, 1.2], name: ghost, "
+                            "costmap: global}}\n"
+                            "  - {at: 2.0, move_phantom: ghost, to: {box: [3.6, 1.0, 3.8, 1.2]}}\n"
+                            "  - {at: 2.0, set: {DWAPlannerROS: {max_vel_x: 0.2}}}\n"
+                            "expect: {outcome: null}\n")
+    seen = []
+
+    def watch(ex):
+        sim = ex.io.sim
+        cm = ex.components["global_costmap"]
+        layer = [lay for lay in cm.layers if getattr(lay, "clearable", False)][0]
+        g = layer.grid
+        cell = lambda x, y: int(g.costs[int((y - g.origin_y) / g.resolution),  # noqa: E731
+                                        int((x - g.origin_x) / g.resolution)])
+        seen.append((round(ex.clock.now() - ex.period, 3),
+                     sorted(o.name for o in sim.world.objects),
+                     sim.fault_active("odom_slip") is not None,
+                     cell(1.1, 1.1), cell(3.7, 1.1),
+                     ex.components["parameters"]["DWAPlannerROS"].max_vel_x))
+    run_scenario(load_scenario(p), SMACH, on_tick=watch)
+    at = {t: rest for t, *rest in seen}
+    assert at[0.5] == [["object0"], False, 0, 0, 0.5]
+    assert at[1.0][0] == ["pole"] and at[1.0][2] == 254            # removed, added, painted
+    assert at[1.7][1] is True and at[2.7][1] is False              # the fault came and went
+    assert at[2.0][2:] == [0, 254, 0.2]                             # moved; parameter changed
+
+
 def test_runner_keeps_results_past_a_broken_scenario_and_a_wall_limit(tmp_path):
     good = _scenario(tmp_path, "start: [0.5, 0.6]\ngoals: [[2.0, 0.6]]\ntime_limit: 20\n", "good")
     broken = tmp_path / "broken.yaml"
