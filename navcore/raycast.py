@@ -186,8 +186,6 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
     # the face ahead of cell c along x is at c + face_x (1 moving +x, 0 moving -x)
     face_x = 1.0 if dx > 0.0 else 0.0
     face_y = 1.0 if dy > 0.0 else 0.0
-    uw = np.uintp(w)  # unsigned bounds: -1 wraps above them, one test per axis
-    uh = np.uintp(h)
     while True:
         # (re)locate the cell holding the point at parameter t and its next faces
         cx = min(max(_axis_entry(gx + t * dx, dx), 0), w - 1)
@@ -204,13 +202,13 @@ def _march_clear(clear: np.ndarray, gx: float, gy: float, dx: float, dy: float, 
                 t = t_max_x
                 t_max_x += t_delta_x
                 cx += step_x
-                if np.uintp(cx) >= uw:
+                if not 0 <= cx < w:
                     return t_end, nd
             else:
                 t = t_max_y
                 t_max_y += t_delta_y
                 cy += step_y
-                if np.uintp(cy) >= uh:
+                if not 0 <= cy < h:
                     return t_end, nd
             if t >= t_end:
                 return t_end, nd
@@ -273,30 +271,8 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
     arithmetic) and only then reads the grid. Each leap is a chain of dependent steps (point,
     cell, load, next point), which is what a cast costs; on the Willow Garage map sliding
     replaces two leaps in three and a third of the time.
-
-    Where the time goes (600 poses of the simulator bench, Willow Garage, ~77 us a 720-beam
-    scan with hot caches): per beam 5.3 disk tests, 2.6 relocations, 1.6 leaps and 5.9 cell
-    steps. Three beams in four leap not at all; one in four finds a kept disk that no longer
-    covers it, drops the ~7 disks beyond and leaps afresh (the 7 % of beams with 9+ leaps). The
-    march is inlined: its call with the array arguments cost more than the walk's mispredicted
-    branches (92 -> 80 us). With 2-8 MB of other data touched between scans, as in the
-    simulator, the same cast costs 10-23 % more (grid cache misses). Measured without gain
-    (interleaved A/B, hot):
-    the grid in 8x8 or 16x16 tiles, four cells of the walk loaded at once, the walked cells'
-    disks kept for the next beam, leaps to the exit of the cell's own disk from clearance 2 on,
-    leap thresholds 3, 5 and 6 (+2, 0, +2 %), exact line-by-line walks on per-axis free-run grids
-    (1.7x slower); a branch-free walk step (select instead of branch: -3 % before inlining, +2 %
-    after, +2-4 % on diagonal beams only), one combined test for clearance 0 or >= 4 (+5 %), a
-    flat cell index (+1.5 %), truncation instead of floor when relocating (+7 %), the grid exit
-    from the walk's inverse directions instead of two divisions (+3.5 %), the range tested at
-    the hit instead of every step (+22 %: walks run on past it), a prefetch of the cell a few
-    beams ahead where this one ended (+9 % with polluted caches); and for the disks: all of a
-    beam's disk stretches first, vectorised, then the scan for the first gap (+12 %),
-    resuming the slide after a leap on the disks beyond the one that failed (leaps 1.6 -> 0.8,
-    disk tests 5.3 -> 6.7 a beam: +2-4 %, also with polluted caches), dropping the middle of
-    three disks when the newest holds the first one's exit (tests 5.3 -> 4.2: +14 %), sliding on
-    common-chord crossings without a square root per disk (chains break more often, 2.3 leaps a
-    beam: +47 %) and a branch-free slide over all disks (+16 %)."""
+    The march is inlined (its call with array arguments cost more than the walk's mispredicted
+    branches). Measurements and what was tried: docs/performance.md."""
     h, w = clear.shape
     n = dirs.shape[0]
     if not (0.0 <= gx < w and 0.0 <= gy < h):
@@ -316,8 +292,10 @@ def cast_fan_clear(clear: np.ndarray, gx: float, gy: float, dirs: np.ndarray, t_
             # the stretch of this ray inside disk j; slide to its end if it covers t, stop at
             # the first disk that does not (the rest lie farther along the previous beam)
             b = disks[j, 0] * dx + disks[j, 1] * dy
-            # a ray that misses the disk has disc < 0: s is NaN and the test below fails too
-            s = math.sqrt(b * b - disks[j, 2])
+            disc = b * b - disks[j, 2]
+            if not disc >= 0.0:  # the ray misses the disk
+                break
+            s = math.sqrt(disc)
             if not -b - s <= t < -b + s:
                 break
             t = -b + s

@@ -639,9 +639,8 @@ def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: in
 
 
 def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -> None:
-    """The pushed cells are appended with a compressing store on AVX-512 CPUs and one store per
-    neighbour elsewhere: compile for a Haswell (no AVX-512; a fresh numba cache) and check that
-    form against the reference too."""
+    """The kernel is plain numba, but LLVM vectorises for the host: compile it for a Haswell (no
+    AVX-512; a fresh numba cache) and check that build against the reference too."""
     import os
     import subprocess
     import sys

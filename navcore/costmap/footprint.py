@@ -2,7 +2,7 @@
 
 A footprint is an (N, 2) float64 polygon in the robot frame. ``footprint_cost`` is a numba kernel
 meant to be called from other kernels (the local planner scores hundreds of thousands of poses per
-cycle), so it allocates nothing and reads each covered cell once.
+cycle): it reads each covered cell once and allocates only two small scratch arrays.
 """
 
 from __future__ import annotations
@@ -12,12 +12,7 @@ import math
 from typing import Any
 
 import numpy as np
-from llvmlite import ir
-from numba import carray, njit, types
-from numba.core import cgutils
-from numba.extending import intrinsic
-
-from navcore.prefetch import prefetch_cell
+from numba import njit
 
 NUM_RADIUS_VERTICES = 16  # makeFootprintFromRadius uses a 16-gon
 
@@ -174,60 +169,6 @@ def _square_meets_polygon(footprint: np.ndarray, x: float, y: float, c: float, s
     return False
 
 
-STACK_VERTICES = 64  # footprints up to this many vertices keep their placed copy on the stack
-STACK_ROWS = 256  # and up to this many cell rows their row extents; larger ones use the heap
-_VERTEX_SLOTS = 2 * STACK_VERTICES  # module constants: _stack_doubles needs a literal
-_ROW_SLOTS = 2 * STACK_ROWS
-LANES = 16  # cells read per vector load when taking the max of a row span
-
-
-@intrinsic
-def _stack_doubles(typingctx, count):  # type: ignore[no-untyped-def]
-    """A pointer to ``count`` (a literal int) uninitialised float64 slots in the calling
-    function's stack frame: scratch without a heap allocation or reference counting."""
-    if not isinstance(count, types.IntegerLiteral):
-        return None
-    n = count.literal_value
-
-    def codegen(context, builder, sig, args):
-        return cgutils.alloca_once(builder, ir.DoubleType(), size=n)
-    return types.CPointer(types.float64)(count), codegen
-
-
-@intrinsic
-def _lanes_max(typingctx, arr, row, start, skip, count, width):  # type: ignore[no-untyped-def]
-    """Max of arr[row, start + i] over the lanes skip <= i < skip + count of one ``width``-cell
-    (a literal) unaligned vector load, others masked to 0. The caller keeps start + width
-    within the row and the row contiguous. A loop over a short span runs scalar (the
-    vectoriser wants far longer rows); this reads up to ``width`` cells without a branch."""
-    if not (isinstance(arr, types.Array) and arr.ndim == 2 and arr.dtype == types.uint8
-            and isinstance(width, types.IntegerLiteral)):
-        return None
-    w = width.literal_value
-
-    def codegen(context, builder, sig, args):
-        a = context.make_array(sig.args[0])(context, builder, args[0])
-        ptr = cgutils.get_item_pointer(context, builder, sig.args[0], a, [args[1], args[2]],
-                                       wraparound=False)
-        i8, i32 = ir.IntType(8), ir.IntType(32)
-        vec = ir.VectorType(i8, w)
-
-        def splat(value):  # the low byte of an int64, in every lane
-            one = builder.insert_element(ir.Constant(vec, ir.Undefined),
-                                         builder.trunc(value, i8), i32(0))
-            return builder.shuffle_vector(one, ir.Constant(vec, ir.Undefined),
-                                          ir.Constant(ir.VectorType(i32, w), [0] * w))
-        cells = builder.load(builder.bitcast(ptr, vec.as_pointer()), align=1)
-        lane = ir.Constant(vec, [i8(i) for i in range(w)])
-        # lane - skip < count, unsigned: lanes before skip wrap to large values
-        keep = builder.icmp_unsigned("<", builder.sub(lane, splat(args[3])), splat(args[4]))
-        cells = builder.select(keep, cells, ir.Constant(vec, [i8(0)] * w))
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(i8, [vec]),
-                                            f"llvm.vector.reduce.umax.v{w}i8")
-        return builder.call(fn, [cells])
-    return types.uint8(arr, row, start, skip, count, width), codegen
-
-
 @njit(cache=True, nogil=True)
 def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
                    footprint: np.ndarray, x: float, y: float, theta: float) -> int:
@@ -238,8 +179,7 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     Row band by row band (cell rows), the parts of the edges within a band give its x extent.
     Edge by edge, each edge widens the extents of the bands it crosses: short loops with few
     data-dependent branches. For a convex footprint the covered cells of a row are that one
-    span, read a vector at a time; a non-convex one checks each cell of the span exactly.
-    Allocates nothing for footprints and rasters of ordinary size (scratch on the stack).
+    span; a non-convex one checks each cell of the span exactly.
     """
     n = footprint.shape[0]
     size_y = costs.shape[0]
@@ -247,14 +187,9 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
     c = math.cos(theta)
     s = math.sin(theta)
     inv = 1.0 / resolution
-    if n <= STACK_VERTICES:
-        vert = carray(_stack_doubles(_VERTEX_SLOTS), (2, STACK_VERTICES))
-    else:
-        vert = np.empty((2, n))
+    vert = np.empty((2, n))
     vmin = 1e300
     vmax = -1e300
-    umin = 1e300
-    umax = -1e300
     on_map = True
     for k in range(n):
         u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
@@ -263,17 +198,10 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
         vert[1, k] = v
         vmin = min(vmin, v)
         vmax = max(vmax, v)
-        umin = min(umin, u)
-        umax = max(umax, u)
     if not on_map:
         return -1
     r0 = int(vmin)
     rows = int(vmax) - r0 + 1
-    # ask for both ends of each row's bounding-box stretch first: the fetches overlap, so on a
-    # large costmap that is not in cache the rows cost about one memory latency, not one each
-    for row in range(r0, r0 + rows):
-        prefetch_cell(costs, row, int(umin))
-        prefetch_cell(costs, row, int(umax))
     # convex iff the turns never change sign (collinear vertices do not count)
     left = False
     right = False
@@ -286,10 +214,7 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
         right |= cross < 0.0
         au, av, bu, bv = bu, bv, cu, cv
     convex = not (left and right)
-    if rows <= STACK_ROWS:
-        ext = carray(_stack_doubles(_ROW_SLOTS), (2, STACK_ROWS))
-    else:
-        ext = np.empty((2, rows))
+    ext = np.empty((2, rows))
     for r in range(rows):
         ext[0, r] = 1e300
         ext[1, r] = -1e300
@@ -313,7 +238,6 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
                 ext[1, r] = max(ext[1, r], max(xa, xb))
                 xa = xb  # where the edge leaves this band it enters the next: the same number
         au, av = bu, bv
-    vector_rows = size_x >= LANES and costs.strides[1] == 1
     best = 0
     for r in range(rows):
         row = r0 + r
@@ -321,19 +245,9 @@ def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resoluti
         m1 = min(int(ext[1, r]), size_x - 1)
         if convex:
             rb = np.uint8(0)
-            if vector_rows:  # written out here: a helper taking the array costs a refcount
-                start = m0
-                left_over = m1 - m0 + 1
-                while left_over > LANES:
-                    rb = max(rb, _lanes_max(costs, row, start, 0, LANES, LANES))
-                    start += LANES
-                    left_over -= LANES
-                at = min(start, size_x - LANES)  # the last load ends inside the row
-                rb = max(rb, _lanes_max(costs, row, at, start - at, left_over, LANES))
-            else:
-                # unsigned column indices: no negative-index wraparound, so plain loads
-                for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
-                    rb = max(rb, costs[row, mx])
+            # unsigned column indices: no negative-index wraparound, so plain loads
+            for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
+                rb = max(rb, costs[row, mx])
             if rb > best:
                 best = np.int64(rb)
                 if best == 255:  # nothing can be higher

@@ -36,7 +36,7 @@ def grow_bounds(bounds: np.ndarray, x: float, y: float) -> None:
 
 
 # the same rule for the layers' Python-list bounds (the njit kernels use ``grow_bounds``)
-touch = grow_bounds.py_func
+touch = getattr(grow_bounds, "py_func", grow_bounds)  # plain already under NUMBA_DISABLE_JIT
 
 
 class CostmapLayer:

@@ -133,7 +133,7 @@ def likelihood_field(particles: np.ndarray, weights: np.ndarray, ranges: np.ndar
             gx = lx0 + cc * rx[j] - ss * ry[j]
             gy = ly0 + ss * rx[j] + cc * ry[j]
             if gx >= 0.0 and gy >= 0.0 and gx < w and gy < h:
-                q += cubes[int(gy), int(gx)]
+                q += int(cubes[int(gy), int(gx)])  # int(): plain Python would sum in uint16
             else:
                 off += 1
         weights[i] *= 1.0 + q * scale + off * off_cube

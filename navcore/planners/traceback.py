@@ -65,15 +65,16 @@ def _grad_cell(pot: np.ndarray, n: int, nx: int, ns: int, obs_grad: float) -> tu
         elif pd < POT_HIGH:
             dy = obs_grad
     else:
+        # float32 differences summed in double (float(): plain Python would keep float32)
         if pl < POT_HIGH:
-            dx += pl - cv
+            dx += float(pl - cv)
         if pr < POT_HIGH:
-            dx += cv - pr
+            dx += float(cv - pr)
         if pu < POT_HIGH:
-            dy += pu - cv
+            dy += float(pu - cv)
         if pd < POT_HIGH:
-            dy += cv - pd
-    norm = math.hypot(dx, dy)
+            dy += float(cv - pd)
+    norm = np.hypot(dx, dy)  # libm's in both modes (Python's math.hypot rounds differently)
     if norm > 0.0:
         return float(np.float32(dx / norm)), float(np.float32(dy / norm))
     return 0.0, 0.0
@@ -194,7 +195,7 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             gy = (1.0 - dy) * y1 + dy * y2
             if gx == 0.0 and gy == 0.0:
                 break
-            ss = PATH_STEP / math.hypot(gx, gy)
+            ss = PATH_STEP / np.hypot(gx, gy)
             dx += gx * ss
             dy += gy * ss
             if dx > 1.0:

@@ -32,76 +32,12 @@ potential through a strided view of the records (``Workspace.pot``).
 A* (``hkind``) is navfn's ``calcNavFnAstar``: the band of a cell is chosen by potential plus
 heuristic.
 
-Performance notes (CPU time, office maps; see bench/bench_planners.py). The quadratic update is
-not monotone (its factor jumps from 1.0046 to 1 at ``dc == hf``), so its potentials depend on the
-visiting order: a strided order moved the 1000^2 goal potential by 0.6 %. Optimisations here keep
-the order within a band. Measured without gain: a per-plan float32 cost array instead of the
-uint8 map + table, interleaved potential/cost pairs, FMA contraction, a premultiplied push table,
-OR-ed flags; later also the quadratic update in Horner form on per-cost coefficients, the queue
-visited as two interleaved halves (to break the dependency of a front cell on its neighbour just
-updated: slower, and it changes the potentials), and the band test and the no-change test made
-branch-free (slower: more stores than the mispredictions cost). Dropping the queue flags
-altogether (duplicates allowed) saves ~25 % per update but costs 55 % more updates. One kernel per
-(update, search) with the flags and the push costs in one gate array took 30 -> 26 ms at
-1000^2 (navfn, same potentials); bands of ``BAND_NEUTRALS`` cut the updates by ~15 %.
-
-A single-pass (Fast-Marching-style) order cannot do much better here: with 10-neutral bands the
-kernel makes one update per passable cell (office maps, navfn: 809k updates for 805k passable
-cells at 1000^2, 3.25M for 3.26M at 2000^2), each reading its four neighbours once and checking
-four pushes. What is left is the cost of one update (~25 ns at 1000^2 then).
-
-That cost was mostly waiting for memory: replaying the same updates in the recorded order without
-the queue takes ~11 ns each, and the front's lines come from L3 or memory (potential and gate
-are 8 bytes a cell, 8 MB at 1000^2 against a 1 MB L2). The kernel now prefetches (for writing)
-the potential, gate and cost lines of the cell ``PREFETCH_AHEAD`` places ahead in the queue: same
-visiting order, same potentials; CPU time of the whole wavefront at 1000^2 22.99 -> 17.10 ms
-(navfn, interleaved A/B in one process, min of 9; 4 and 16 places ahead within 2 %). Row-major
-with the prefetch then beats the tiled copy at 2000^2 (118 vs 134 ms tiled without it) but not
-at 2800^2 (184 vs 174 ms) or 4000^2 (608 vs 547 ms), hence a tiled copy for big maps then
-(replaced since by the records below).
-
-With the memory waits hidden, the instructions count: the four push tests took ~48 of an
-update's ~110. They now run as one 4-lane vector step (``_push4_next``, ``_push4_over``:
-compare, write the gates back, append the pushed cells with one compressing store on AVX-512):
-same pushes in the same order, same potentials; wavefront 16.83 -> 14.96 ms at 1000^2 and
-79.0 -> 69.7 ms at 2000^2 (navfn, interleaved A/B, min of 11 / 5). Without the compressing store
-(one store per neighbour, as on CPUs without AVX-512) the vector step gains nothing.
-
-Around the kernel: the gate survives from plan to plan of one size (the kernel hands queued cells
-their idle gate back on exit) and only cells whose cost changed are rewritten (``refresh_buffers``:
-set-up 1.1 -> 0.35 ms at 1000^2, 5.3 -> 2.6 ms at 2000^2); the three per-cost tables are read as
-one record (-1 % at 1000^2, -2..-5 % at 2000^2). Measured with the prefetch and without gain (in
-one process, interleaved): the tiled layout at 1000^2 (+15 %) and 4x4 tiles (one line a tile) at
-1000^2 and 2000^2; the buffers on transparent huge pages (within 2 %); no costs prefetch
-(+4..6 %); the prefetch's bound test replaced by a clamp (within 1 %).
-
-The potential and the gate of a cell in one 8-byte record (queues and costs unchanged, the
-record of cell n at 2n): one line holds both values a push test and an update need, and the
-prefetch asks for three lines instead of six. Same visiting order, bit-identical potentials and
-paths. Whole make_plan, interleaved A/B in one process against the previous form (row-major
-separate arrays below 6M cells, an 8x8-tiled copy from there), min of 21 / 7 / 3: 2000^2 navfn
--9 %, global_planner -8 %, its A* -3 %; 4000^2 (against the tiled copy, which it replaces: one
-layout for every size) navfn -6 %, global_planner -2..-16 %, its A* -17 %; 1000^2 within +-2 %
-(the kernel -2..3 %, but resetting the potentials now touches 8 bytes a cell: 0.28 -> 0.45 ms).
-No hardware performance counters on this host (a VM without a PMU driver), so the causes were
-found by experiment: shortening the quadratic update's dependency chain by three operations (not
-exact, only to measure) saved 7-9 %, so the update's latency still counts; the cell processed
-before is a neighbour of the current one in under 2 % of the updates (so the chain runs within
-an update, not from one to the next: forwarding the previous potential in a register was +1..4 %
-slower); 6 % of updates lower nothing and 7 % switch between the next and overflow sides (the
-branches that remain); building the neighbour index vector with one add instead of four inserts
-changed nothing measurable. On a 250^2 map (all in L2) an update takes 16 ns, at 1000^2 18 ns and
-2000^2 19 ns (whole run_wavefront), so memory is now 10-15 % of the kernel: the rest is the
-core's work on ~95 micro-ops an update. Also measured without gain on top of the records (kernel,
-interleaved A/B): the push step loading the neighbours' whole records and gathering the gates by
-shuffles (within 1 %); the band test branch-free, one push step selecting its queue and count
-(+15 %: the queue counts then depend on each update's potential, which serialises the updates;
-the predicted branch lets them overlap); two queue cells a step with both new potentials computed
-before either is settled (exact: the second recomputed when the first is its neighbour; navfn
--2 %, A* +3 %, not worth the code); ``PREFETCH_AHEAD`` 5 or 12 (+1..7 %); the records and queues
-on transparent huge pages (+0..3 %); wider bands (1000^2 navfn, 10 / 15 / 20 / 30 neutral costs:
-809k / 809k / 818k / 856k updates, kernel time within 2 %, goal potential moving 6e-6 / 2e-5 /
-8e-6 / 2e-4 from navfn's 2 x bands), so ``BAND_NEUTRALS`` stays 10.
+Why it is shaped this way: one update per passable cell is about all a band order can do, so the
+time is the cost of one update, mostly memory. Hence the 8-byte record (one cache line holds
+what a push test and an update need), one compiled variant per (update, search) kind (no flag
+tests in the loop), branch-free pushes (at the wave front their outcome is a coin flip), and
+buffers and gates reused from plan to plan. The measurements behind each choice, and what was
+tried without gain, are in docs/performance.md.
 """
 
 from __future__ import annotations
@@ -109,12 +45,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from llvmlite import ir
-from numba import njit, types
-from numba.core import cgutils
-from numba.core.extending import intrinsic
-
-from navcore.prefetch import prefetch_write
+from numba import njit
 
 POT_HIGH = np.float32(1.0e10)
 INVSQRT2 = 0.707106781
@@ -181,83 +112,32 @@ def _grown(buf: np.ndarray, need: int) -> np.ndarray:
 # idle cells hold cost/sqrt(2) (> 0), cells in overflow its negation, cells in current/next,
 # impassable cells and the border +inf. Below the threshold ``pm > p + |gate|`` is the whole test,
 # above it ``gate > 0`` joins it. The pushes are branch-free (at the wave front the outcome is a
-# coin flip, and mispredictions dominated the run time), and the four neighbours are tested as one
-# 4-lane vector (``_push4``): one compare, the four gates written back, and the pushed cells
-# appended in neighbour order (left, right, up, down) with one compressing store where the CPU has
-# one (AVX-512), else one store per neighbour with the count advancing only for pushed ones.
+# coin flip, and mispredictions dominated the run time): each neighbour, in the order left,
+# right, up, down, is stored at the queue's end and the count advances only when it was pushed.
 
 
-def _push4_codegen(above: bool):  # type: ignore[no-untyped-def]
-    def codegen(context, builder, sig, args):  # type: ignore[no-untyped-def]
-        rec = context.make_array(sig.args[0])(context, builder, args[0])
-        queue = context.make_array(sig.args[1])(context, builder, args[1])
-        count, p, pms, cells = args[2], args[3], args[4:8], args[8:12]
-        f32, i32, i64 = ir.FloatType(), ir.IntType(32), ir.IntType(64)
-        v4f, v4i = ir.VectorType(f32, 4), ir.VectorType(i32, 4)
-        g = pm = ir.Constant(v4f, None)
-        idx = ir.Constant(v4i, None)
-        ptrs = []
-        for k in range(4):
-            slot = builder.add(builder.shl(cells[k], i64(1)), i64(GATE))
-            ptrs.append(builder.gep(rec.data, [slot]))
-            g = builder.insert_element(g, builder.load(ptrs[k]), i32(k))
-            pm = builder.insert_element(pm, pms[k], i32(k))
-            idx = builder.insert_element(idx, builder.trunc(cells[k], i32), i32(k))
-        pv = builder.shuffle_vector(builder.insert_element(ir.Constant(v4f, None), p, i32(0)),
-                                    ir.Constant(v4f, None), ir.Constant(v4i, [0, 0, 0, 0]))
-        zero = ir.Constant(v4f, [0.0] * 4)
-        if above:  # to overflow when idle: the gate turns negative
-            ok = builder.and_(builder.fcmp_ordered(">", pm, builder.fadd(pv, g)),
-                              builder.fcmp_ordered(">", g, zero))
-            g = builder.select(ok, builder.fsub(zero, g), g)
-        else:  # to next, also from overflow: the gate turns +inf
-            fabs = cgutils.get_or_insert_function(builder.module, ir.FunctionType(v4f, [v4f]),
-                                                  "llvm.fabs.v4f32")
-            ok = builder.fcmp_ordered(">", pm, builder.fadd(pv, builder.call(fabs, [g])))
-            g = builder.select(ok, ir.Constant(v4f, [float("inf")] * 4), g)
-        for k in range(4):
-            builder.store(builder.extract_element(g, i32(k)), ptrs[k])
-        if "+avx512vl" in getattr(context.codegen(), "_tm_features", ""):
-            v4b = ir.VectorType(ir.IntType(1), 4)
-            fn = cgutils.get_or_insert_function(
-                builder.module, ir.FunctionType(ir.VoidType(), [v4i, i32.as_pointer(), v4b]),
-                "llvm.masked.compressstore.v4i32")
-            builder.call(fn, [idx, builder.gep(queue.data, [count]), ok])
-            pop = cgutils.get_or_insert_function(
-                builder.module, ir.FunctionType(ir.IntType(4), [ir.IntType(4)]), "llvm.ctpop.i4")
-            return builder.add(count, builder.zext(
-                builder.call(pop, [builder.bitcast(ok, ir.IntType(4))]), i64))
-        # elsewhere LLVM would expand the compressing store into a branch per lane
-        for k in range(4):
-            builder.store(builder.extract_element(idx, i32(k)), builder.gep(queue.data, [count]))
-            count = builder.add(count, builder.zext(builder.extract_element(ok, i32(k)), i64))
-        return count
-    return codegen
+@njit(cache=True, inline="always")
+def _push_next(rec: np.ndarray, queue: np.ndarray, count: np.uintp, p: np.float32,
+               pm: np.float32, m: np.uintp) -> np.uintp:
+    """The push rule below the threshold for neighbour ``m`` (old potential ``pm``): to next,
+    also from overflow. Branch-free: the cell is always written at ``count``, which advances
+    only when it was pushed."""
+    g = rec[np.uintp(2) * m + np.uintp(GATE)]
+    ok = pm > p + abs(g)
+    rec[np.uintp(2) * m + np.uintp(GATE)] = np.float32(np.inf) if ok else g
+    queue[count] = m
+    return count + np.uintp(ok)
 
 
-def _push4_typing(above: bool):  # type: ignore[no-untyped-def]
-    def typer(typingctx, rec, queue, count, p, l, r, u, d, ml, mr, mu, md):  # type: ignore
-        """Apply the push rule to the four neighbours (old potentials l, r, u, d; cells ml, mr, mu,
-        md) of a cell that got potential p: update their gates in the records ``rec`` and append
-        the pushed ones to ``queue`` (int32) at ``count``; returns the new count (uintp)."""
-        ok = (isinstance(rec, types.Array) and rec.dtype == types.float32
-              and isinstance(queue, types.Array) and queue.dtype == types.int32
-              and count == types.uintp and p == types.float32
-              and all(v == types.float32 for v in (l, r, u, d))
-              and all(m == types.uintp for m in (ml, mr, mu, md)))
-        if not ok:
-            return None
-        return (types.uintp(rec, queue, count, p, l, r, u, d, ml, mr, mu, md),
-                _push4_codegen(above))
-    return typer
-
-
-_push4_next = intrinsic(_push4_typing(False))
-_push4_over = intrinsic(_push4_typing(True))
-
-
-# How many queue places ahead the kernel prefetches a cell's lines (measured: see the notes above).
-PREFETCH_AHEAD = 8
+@njit(cache=True, inline="always")
+def _push_over(rec: np.ndarray, queue: np.ndarray, count: np.uintp, p: np.float32,
+               pm: np.float32, m: np.uintp) -> np.uintp:
+    """The push rule above the threshold: to overflow when idle (the gate turns negative)."""
+    g = rec[np.uintp(2) * m + np.uintp(GATE)]
+    ok = (pm > p + g) & (g > np.float32(0.0))
+    rec[np.uintp(2) * m + np.uintp(GATE)] = -g if ok else g
+    queue[count] = m
+    return count + np.uintp(ok)
 
 
 @njit(cache=True, inline="always")
@@ -332,19 +212,9 @@ def _make_propagate(quadratic: bool, astar: bool):
                 # a former overflow queue may hold a cell twice: make all idle first, as navfn
                 # clears its flags
                 _make_idle(rec, costs, lut_push, cur, ncur)
-            ahead = np.uintp(PREFETCH_AHEAD)  # unsigned like i: an int/uint mix compares as float
             for i in range(ncur):
                 # unsigned indices: numba then skips its negative-index wraparound test
                 n = np.uintp(cur[i])
-                if i + ahead < ncur:
-                    # the front's lines come from L3 or memory: ask for those of a cell a few
-                    # places ahead in the queue while this one is updated (same results); a
-                    # record holds potential and gate, so three lines plus the cost
-                    f = np.uintp(cur[i + ahead])
-                    prefetch_write(rec, two * (f - unx))
-                    prefetch_write(rec, two * f)
-                    prefetch_write(rec, two * (f + unx))
-                    prefetch_write(costs, f)
                 cn = np.uintp(costs[n]) << np.uintp(2)
                 if not from_over:
                     # a queue filled as ``next`` holds each cell once, so it turns idle as it
@@ -378,11 +248,15 @@ def _make_propagate(quadratic: bool, astar: bool):
                     below = p < t
                 # the push rule above, all four neighbours at once
                 if below:
-                    nnext = _push4_next(rec, nxt, nnext, p, l, r, u, d, n - one, n + one,
-                                        n - unx, n + unx)
+                    nnext = _push_next(rec, nxt, nnext, p, l, n - one)
+                    nnext = _push_next(rec, nxt, nnext, p, r, n + one)
+                    nnext = _push_next(rec, nxt, nnext, p, u, n - unx)
+                    nnext = _push_next(rec, nxt, nnext, p, d, n + unx)
                 else:
-                    nover = _push4_over(rec, over, nover, p, l, r, u, d, n - one, n + one,
-                                        n - unx, n + unx)
+                    nover = _push_over(rec, over, nover, p, l, n - one)
+                    nover = _push_over(rec, over, nover, p, r, n + one)
+                    nover = _push_over(rec, over, nover, p, u, n - unx)
+                    nover = _push_over(rec, over, nover, p, d, n + unx)
             tmp = cur
             cur = nxt
             nxt = tmp
