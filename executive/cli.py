@@ -28,6 +28,8 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "config": ("config_cmd", "check a robot config (navbt YAML, roslaunch, rosparam or Nav2 "
                              "files): merged values with their origin, every error at once"),
     "bag": ("bag_cmd", "show a ROS 1 / ROS 2 bag's topics; with --map, run AMCL on its scans"),
+    "warmup": ("warmup_cmd", "compile the numba kernels a mission uses into the cache (once "
+                             "after installing)"),
     "map-info": ("map_info_cmd", "load a map_server map and print its size and cell counts"),
 }
 

@@ -36,8 +36,10 @@ def run(args: argparse.Namespace) -> int:
     scenario = load_scenario(os.path.join(here, "data", "demo.yaml"))
     tree = args.tree or shipped_tree("smach_recovery")
     out = args.out or _fresh_dir(os.path.abspath("mission-demo"))
+    from executive.commands.warmup_cmd import announce_compiling
     progress = Progress()
     print(f"demo: {scenario.description.splitlines()[0] if scenario.description else scenario.name}")
+    announce_compiling()
     try:
         r = run_scenario(scenario, tree, record_dir=out, config_path=config_sources(args),
                          on_tick=progress_callback(progress, scenario.time_limit,
@@ -49,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     if r.outcome == "error":
         return fail("demo", r.detail)
     rec = ", ".join(x["name"] for x in r.recoveries) or "none"
-    print(f"{r.outcome} in {r.sim_time:.1f} s simulated ({r.sim_time / max(r.wall_time, 1e-9):.0f}x "
+    print(f"{r.outcome} in {r.sim_time:.1f} s simulated ({r.sim_time / max(r.wall_time, 1e-9):.1f}x "
           f"real time); recoveries: {rec}; collisions: {r.collisions}")
     print(out)
     return 0 if r.solved else 1

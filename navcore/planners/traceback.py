@@ -121,8 +121,9 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             cap *= 2
             xs2 = np.empty(cap, np.float64)
             ys2 = np.empty(cap, np.float64)
-            xs2[:npath] = xs[:npath]
-            ys2[:npath] = ys[:npath]
+            for i in range(npath):  # element loops: a slice copy costs seconds of compile
+                xs2[i] = xs[i]
+                ys2[i] = ys[i]
             xs = xs2
             ys = ys2
         px = stc % nx + dx
@@ -213,8 +214,9 @@ def gradient_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: floa
             if stc < 0 or stc >= ns:
                 break
     out = np.empty((npath, 2), np.float64)
-    out[:, 0] = xs[:npath]
-    out[:, 1] = ys[:npath]
+    for i in range(npath):
+        out[i, 0] = xs[i]
+        out[i, 1] = ys[i]
     return ok, out
 
 
@@ -262,8 +264,9 @@ def grid_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float, t
             cap *= 2
             xs2 = np.empty(cap, np.float64)
             ys2 = np.empty(cap, np.float64)
-            xs2[:npath] = xs[:npath]
-            ys2[:npath] = ys[:npath]
+            for i in range(npath):  # element loops: a slice copy costs seconds of compile
+                xs2[i] = xs[i]
+                ys2[i] = ys[i]
             xs = xs2
             ys = ys2
         xs[npath] = cx
@@ -274,6 +277,7 @@ def grid_path(pot: np.ndarray, nx: int, ny: int, from_x: float, from_y: float, t
             ok = False
             break
     out = np.empty((npath, 2), np.float64)
-    out[:, 0] = xs[:npath]
-    out[:, 1] = ys[:npath]
+    for i in range(npath):
+        out[i, 0] = xs[i]
+        out[i, 1] = ys[i]
     return ok, out

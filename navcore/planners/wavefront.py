@@ -99,7 +99,8 @@ def _cell_xy(n: int, nx: int, inv_nx: float) -> tuple:
 @njit(cache=True)
 def _grown(buf: np.ndarray, need: int) -> np.ndarray:
     big = np.empty(max(2 * buf.shape[0], need), buf.dtype)
-    big[: buf.shape[0]] = buf
+    for i in range(buf.shape[0]):  # not a slice copy: see ``pending`` in propagate
+        big[i] = buf[i]
     return big
 
 
@@ -159,7 +160,7 @@ def _make_propagate(quadratic: bool, astar: bool):
                   buf_a: np.ndarray, buf_b: np.ndarray, buf_c: np.ndarray,
                   seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
                   target: int, threshold: float, increment: float, max_cycles: int, hkind: int,
-                  hscale: float) -> tuple:
+                  hscale: float, stop_margin: float) -> tuple:
         ns = nx * ny
         # the three per-cost tables as one record per cost: one base register, one line
         cost_rec = np.empty(4 * lut_push.shape[0], np.float32)
@@ -265,7 +266,7 @@ def _make_propagate(quadratic: bool, astar: bool):
             from_over = False
             if ncur == zero:
                 # band below t is exhausted: every cell under t is final
-                if rec[2 * target + POT] < t:
+                if rec[2 * target + POT] + stop_margin < t:
                     reached = True
                     break
                 t += inc
@@ -283,7 +284,16 @@ def _make_propagate(quadratic: bool, astar: bool):
         _make_idle(rec, costs, lut_push, over, nover)
         if not reached and rec[2 * target + POT] < POT_HIGH:
             reached = True
-        return reached, updates, cycle
+        # what was still queued: a repair (``repair_field``) continues the wave from there
+        # (element loops: a slice copy brings numba's shape-error formatting, seconds of compile)
+        pending = np.empty(ncur + nnext + nover, np.int32)
+        for i in range(ncur):
+            pending[i] = cur[i]
+        for i in range(nnext):
+            pending[ncur + i] = nxt[i]
+        for i in range(nover):
+            pending[ncur + nnext + i] = over[i]
+        return reached, updates, cycle, pending
 
     return propagate
 
@@ -295,13 +305,16 @@ def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarra
               buf_a: np.ndarray, buf_b: np.ndarray, buf_c: np.ndarray,
               seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
               target: int, threshold: float, increment: float, max_cycles: int,
-              quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0) -> tuple:
+              quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0,
+              stop_margin: float = 0.0) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
 
     ``costs`` is the flat uint8 costmap and ``tables`` its ``kernel_tables``. ``rec`` (float32,
     two per cell: potential at 2n, gate at 2n + 1) must hold POT_HIGH potentials and the idle
     gates with +inf on the border (``reset_records``). Seeds get ``seed_pots``; ``push_cells``
-    start the wave. Returns ``(reached, cell_updates, cycles)``.
+    start the wave. The search stops once every cell below the target's potential plus
+    ``stop_margin`` is final. Returns ``(reached, cell_updates, cycles, pending)``, ``pending``
+    the cells still queued then.
 
     With ``hkind`` HEURISTIC_MANHATTAN or HEURISTIC_EUCLIDEAN this is A* in navfn's
     ``calcNavFnAstar`` manner: a cell's band is decided by potential plus ``hscale`` x its
@@ -310,7 +323,8 @@ def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarra
     """
     kernel = _PROPAGATE[(bool(quadratic), hkind != HEURISTIC_NONE)]
     return kernel(costs, *tables, nx, ny, rec, buf_a, buf_b, buf_c, seed_cells, seed_pots,
-                  push_cells, target, threshold, increment, max_cycles, hkind, hscale)
+                  push_cells, target, threshold, increment, max_cycles, hkind, hscale,
+                  stop_margin)
 
 
 def kernel_tables(lut: np.ndarray, block: float, truncate: bool) -> tuple:
@@ -418,6 +432,10 @@ class Workspace:
         self.buf_a = np.empty(ns, np.int32)
         self.buf_b = np.empty(ns, np.int32)
         self.buf_c = np.empty(ns, np.int32)
+        # the goal-rooted field a replan may repair (``plan_field``): its key and queued cells
+        self.field: tuple | None = None
+        self.pending = np.empty(0, np.int32)
+        self.old_pot = np.empty(ns, np.float32)
 
 
 def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int,
@@ -438,4 +456,6 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
                     seed_pots, push_cells, target, threshold, increment, max_cycles, quadratic,
                     hkind, hscale)
     ws.gate_lut = lut_push.copy()
-    return out
+    ws.field = None  # a robot-rooted field: nothing a repair could reuse
+    return out[:3]
+

@@ -1,0 +1,70 @@
+"""Cold and warm start of ``mission demo``: wall (and CPU) time of a whole demo run, once with an
+empty numba cache (``NUMBA_CACHE_DIR`` pointed at a fresh temporary directory, so every kernel
+the demo needs compiles) and then again on that cache (every kernel loads). Both runs are
+subprocesses of this script, in the same minute, from the checkout this file lives in.
+
+    python bench/bench_startup.py [--json] [--warm-runs N]
+
+``demo_cold_s`` / ``demo_warm_s``: wall seconds (the warm figure is the median of N runs);
+``*_cpu_s``: user + system seconds of the child, which another job on a shared machine does not
+inflate; ``cold_over_warm``: the wall ratio.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_demo(cache_dir: str, out_dir: str) -> tuple[float, float]:
+    """(wall s, cpu s) of one ``mission demo`` writing to ``out_dir`` with that numba cache."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    env.pop("NUMBA_DISABLE_JIT", None)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "executive.cli", "demo", "--out", out_dir],
+                          cwd=ROOT, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode != 0:
+        raise SystemExit(f"bench_startup: mission demo failed ({proc.returncode}):\n"
+                         f"{proc.stdout[-2000:]}{proc.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true", help="print a JSON object as the last line")
+    ap.add_argument("--warm-runs", type=int, default=3)
+    args = ap.parse_args(argv)
+    with tempfile.TemporaryDirectory(prefix="navbt-startup-") as tmp:
+        cache = os.path.join(tmp, "numba-cache")
+        cold_wall, cold_cpu = run_demo(cache, os.path.join(tmp, "cold"))
+        warm = [run_demo(cache, os.path.join(tmp, f"warm{i}")) for i in range(args.warm_runs)]
+    warm_wall = statistics.median(w for w, _ in warm)
+    warm_cpu = statistics.median(c for _, c in warm)
+    figures = {"demo_cold_s": round(cold_wall, 2), "demo_warm_s": round(warm_wall, 2),
+               "demo_cold_cpu_s": round(cold_cpu, 2), "demo_warm_cpu_s": round(warm_cpu, 2),
+               "cold_over_warm": round(cold_wall / warm_wall, 2)}
+    print(f"mission demo, empty numba cache: {cold_wall:6.2f} s wall ({cold_cpu:6.2f} s CPU)")
+    print(f"mission demo, warm cache:        {warm_wall:6.2f} s wall ({warm_cpu:6.2f} s CPU), "
+          f"median of {args.warm_runs}")
+    print(f"cold / warm: {cold_wall / warm_wall:.2f}x wall, {cold_cpu / warm_cpu:.2f}x CPU")
+    if args.json:
+        print(json.dumps(figures))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

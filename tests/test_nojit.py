@@ -1,0 +1,68 @@
+"""The kernels as plain Python: the reference tests of the planner, costmap, controller, AMCL and
+simulator kernels run again in a subprocess with ``NUMBA_DISABLE_JIT=1``.
+
+With the JIT off every ``@njit`` function is the Python function it decorates, so these runs
+check that the kernels are valid Python with the compiled semantics (no LLVM intrinsics, no
+integer wraparound or float32 promotion that only numba gives) and that the plain references
+the tests compare against are met either way. The selection keeps to small maps: plain Python
+is about a hundred times slower than the compiled kernels.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+# node ids (or prefixes of them), one area per block
+SELECTED = [
+    # planners: the wavefront and path extraction against their plain references
+    "tests/test_planners.py::test_wavefront_kernel_matches_the_plain_reference",
+    "tests/test_planners.py::test_wavefront_leaves_the_gate_idle_and_reused_buffers_give_fresh_"
+    "results",
+    "tests/test_planners.py::test_gradient_path_matches_the_plain_reference",
+    "tests/test_planners.py::test_dijkstra_and_astar_costs_are_optimal_on_random_grids",
+    "tests/test_planners.py::test_cell_coordinates_from_the_reciprocal_match_integer_division",
+    # costmap: footprint rasterisation, grid kernels, inflation
+    "tests/test_costmap_footprint.py",
+    "tests/test_costmap_grid.py",
+    "tests/test_costmap_inflation.py::test_inflation_agrees_with_brute_force_on_random_small_maps",
+    "tests/test_costmap_inflation.py::test_exact_distance_transform_matches_brute_force",
+    "tests/test_costmap_inflation.py::test_inflated_costs_equal_the_formula_around_one_obstacle",
+    # controllers
+    "tests/test_controllers_rollout.py::test_start_footprint_cells_agree_with_the_numpy_even_odd_"
+    "test_on_random_poses",
+    "tests/test_controllers_rollout.py::test_boxed_in_it_backs_off_at_escape_vel",
+    "tests/test_controllers_rollout.py::test_holonomic_robot_samples_strafes",
+    "tests/test_controllers_rollout.py::test_start_footprint_cells_are_its_inside",
+    # AMCL (all but the closed-loop tracking run)
+    "tests/test_amcl.py",
+    # simulator and its ray casting
+    "tests/test_sim_motion.py",
+    "tests/test_sim_sensors.py::test_ranges_in_a_box_world_match_the_analytic_distances",
+    "tests/test_sim_sensors.py::test_odometry_twist_covariance_is_the_alpha_model_over_one_period",
+    "tests/test_raycast.py::test_box_world_ranges_are_exact_to_the_cell_faces",
+    "tests/test_raycast.py::test_matches_a_fine_brute_force_march_in_clutter",
+    "tests/test_raycast.py::test_fan_casting_from_cell_faces_and_corners_along_the_axes",
+    "tests/test_raycast.py::test_distance_field_matches_brute_force",
+]
+DESELECTED = [
+    "tests/test_amcl.py::test_tracks_a_robot_driving_through_rooms_from_an_offset_start",
+]
+
+
+def test_kernel_tests_pass_with_the_jit_disabled() -> None:
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:warnings",
+           "-o", "addopts=", *SELECTED]
+    for d in DESELECTED:
+        cmd += ["--deselect", d]
+    out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=900)
+    tail = (out.stdout + out.stderr)[-4000:]
+    assert out.returncode == 0, tail
+    passed = re.search(r"(\d+) passed", out.stdout)
+    assert passed and int(passed.group(1)) >= 60, tail
