@@ -320,31 +320,26 @@ def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, A
 def _note_no_effect(body: Mapping[str, Any], ns: str, report: _Report) -> None:
     """One "ignored" note listing the frame, topic and publishing keys of a costmap (and of its
     observation sources) that are accepted but change nothing here."""
-    found = [k for k in body if k in COSTMAP_NO_EFFECT]
-    first = (ns, found[0]) if found else None
+    paths = [(k,) for k in body if k in COSTMAP_NO_EFFECT]
     for layer, lbody in body.items():
-        if not isinstance(lbody, Mapping):
-            continue
-        sources = lbody.get("observation_sources")
-        names = sources.split() if isinstance(sources, str) else []
-        for src in names:
-            sbody = lbody.get(src)
-            if isinstance(sbody, Mapping):
-                for k in sbody:
-                    if k in SOURCE_NO_EFFECT:
-                        found.append(f"{layer}/{src}/{k}")
-                        first = first or (ns, layer, src, k)
-    sources = body.get("observation_sources")   # pre-Hydro: sources at the top level
+        if isinstance(lbody, Mapping):
+            paths += [(layer,) + p for p in _source_keys_no_effect(lbody)]
+    paths += _source_keys_no_effect(body)   # pre-Hydro: sources at the top level
+    if paths:
+        report.add("ignored", (ns,) + paths[0], f"{ns}: frames, topics and publishing have no "
+                   "effect here (components are wired directly, in one frame): "
+                   + ", ".join("/".join(map(str, p)) for p in paths))
+
+
+def _source_keys_no_effect(holder: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """(source, key) of each frame or topic key of the observation sources ``holder`` lists."""
+    sources = holder.get("observation_sources")
+    out: list[tuple[str, str]] = []
     for src in sources.split() if isinstance(sources, str) else []:
-        sbody = body.get(src)
+        sbody = holder.get(src)
         if isinstance(sbody, Mapping):
-            for k in sbody:
-                if k in SOURCE_NO_EFFECT:
-                    found.append(f"{src}/{k}")
-                    first = first or (ns, src, k)
-    if found and first is not None:
-        report.add("ignored", first, f"{ns}: frames, topics and publishing have no effect here "
-                   f"(components are wired directly, in one frame): {', '.join(found)}")
+            out += [(src, k) for k in sbody if k in SOURCE_NO_EFFECT]
+    return out
 
 
 def _drop(body: dict[str, Any], path: tuple) -> bool:

@@ -138,3 +138,27 @@ def test_what_building_would_refuse_is_refused_at_load(doc, needle):
     finally:
         tracemalloc.stop()
     assert peak < 50e6  # the 1000 m costmap is refused by arithmetic, not by building it
+
+
+def test_frames_and_topics_of_a_costmap_are_one_ignored_note_at_the_first(tmp_path):
+    path = tmp_path / "robot.yaml"
+    path.write_text(
+        "global_costmap:\n"
+        "  rolling_window: false\n"
+        "  global_frame: map\n"
+        "  plugins:\n"
+        "    - {name: obstacles, type: 'costmap_2d::ObstacleLayer'}\n"
+        "  obstacles:\n"
+        "    observation_sources: scan\n"
+        "    scan: {sensor_frame: laser, topic: /scan, data_type: LaserScan}\n"
+        "local_costmap:\n"
+        "  rolling_window: true\n"
+        "  observation_sources: scan\n"   # pre-Hydro: the sources at the costmap's top level
+        "  scan: {topic: /scan, data_type: LaserScan}\n")
+    notes = [str(n) for n in load_config(path).report if "frames, topics" in n.text]
+    assert notes == [
+        f"{path}:3: ignored: global_costmap: frames, topics and publishing have no effect here "
+        "(components are wired directly, in one frame): global_frame, obstacles/scan/sensor_frame, "
+        "obstacles/scan/topic",
+        f"{path}:12: ignored: local_costmap: frames, topics and publishing have no effect here "
+        "(components are wired directly, in one frame): scan/topic"]
