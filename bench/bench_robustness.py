@@ -9,8 +9,10 @@ tick at which the fault is observable to the first zero command.
 
     python bench/bench_robustness.py --json
 
-prints ``<area>_inputs``, ``<area>_clean_errors``, ``<area>_crashes`` for each loader and codec
-(``<codec>_codec_bytes``, ``<codec>_codec_crashes``) and ``stop_latency_<fault>_periods``.
+prints ``<area>_inputs``, ``<area>_clean_errors``, ``<area>_crashes`` for each loader and, per
+codec, ``<codec>_codec_bytes``, ``<codec>_codec_inputs`` (chunks fed), ``<codec>_codec_clean_errors``
+(frames the codec refused with its own error) and ``<codec>_codec_crashes``; then
+``stop_latency_<fault>_periods`` for every drill.
 """
 
 from __future__ import annotations
@@ -75,10 +77,12 @@ def fuzz_area(area: str, n: int, seed: int, hang_s: float) -> dict[str, float]:
 
 
 def fuzz_codec(name: str, total: int, seed: int) -> dict[str, float]:
-    fed, outcome = fuzz.feed_codec(name, total, np.random.default_rng(seed))
+    fed, chunks, refused, outcome = fuzz.feed_codec(name, total, np.random.default_rng(seed))
     if outcome != "clean":
         print(f"  {name}: {outcome}", file=sys.stderr)
-    return {f"{name}_codec_bytes": fed, f"{name}_codec_crashes": int(outcome != "clean")}
+    return {f"{name}_codec_bytes": fed, f"{name}_codec_inputs": chunks,
+            f"{name}_codec_clean_errors": refused,
+            f"{name}_codec_crashes": int(outcome != "clean")}
 
 
 def main() -> None:

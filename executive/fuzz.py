@@ -182,6 +182,9 @@ def load(area: str, data: bytes, folder: str) -> str:
 
 # ----------------------------------------------------------------------------- codecs
 
+_refused = [0]   # frames the codec refused during the current feed_codec call
+
+
 def _codecs() -> dict[str, tuple[Callable[[], Callable[[bytes], None]], tuple, bytes]]:
     """name -> (make a decoder feeding bytes through framing and parsing, its error types,
     a valid stream to mutate)."""
@@ -198,11 +201,14 @@ def _codecs() -> dict[str, tuple[Callable[[], Callable[[bytes], None]], tuple, b
             dec = LineDecoder(sep)
 
             def feed(chunk: bytes) -> None:
-                for line in dec.feed(chunk):
+                before = dec.errors
+                lines_ = dec.feed(chunk)
+                _refused[0] += dec.errors - before     # frames the framing itself dropped
+                for line in lines_:
                     try:
                         parse(line)
                     except ValueError:
-                        pass
+                        _refused[0] += 1
             return feed
         return make
 
@@ -210,34 +216,43 @@ def _codecs() -> dict[str, tuple[Callable[[], Callable[[bytes], None]], tuple, b
         dec = kc.FrameDecoder()
 
         def feed(chunk: bytes) -> None:
-            for payload in dec.feed(chunk):
+            before = dec.errors
+            payloads = dec.feed(chunk)
+            _refused[0] += dec.errors - before
+            for payload in payloads:
                 try:
                     kc.parse_feedback(payload)
                 except kc.KobukiError:
-                    pass
+                    _refused[0] += 1
         return feed
 
     def lms() -> Callable[[bytes], None]:
         dec = lc.TelegramDecoder()
 
         def feed(chunk: bytes) -> None:
-            for t in dec.feed(chunk):
+            before = dec.errors + dec.crc_failures
+            items = dec.feed(chunk)
+            _refused[0] += dec.errors + dec.crc_failures - before
+            for t in items:
                 if isinstance(t, lc.Telegram):
                     try:
                         lc.parse_scan(t)
                     except lc.LmsError:
-                        pass
+                        _refused[0] += 1
         return feed
 
     def urg() -> Callable[[bytes], None]:
         dec = scip.ScipDecoder()
 
         def feed(chunk: bytes) -> None:
-            for reply in dec.feed(chunk):
+            before = getattr(dec, "errors", 0)
+            replies = dec.feed(chunk)
+            _refused[0] += getattr(dec, "errors", 0) - before
+            for reply in replies:
                 try:
                     scip.parse_scan(reply)
                 except scip.ScipError:
-                    pass
+                    _refused[0] += 1
         return feed
 
     def razor_parse(line: str) -> object:
@@ -261,12 +276,15 @@ def _codecs() -> dict[str, tuple[Callable[[], Callable[[bytes], None]], tuple, b
 CODECS = ("arduino", "razor", "vectornav", "kobuki", "lms2xx", "urg04lx")
 
 
-def feed_codec(name: str, total_bytes: int, rng: np.random.Generator) -> tuple[int, str]:
+def feed_codec(name: str, total_bytes: int, rng: np.random.Generator
+               ) -> tuple[int, int, int, str]:
     """Feed ``total_bytes`` of random and mutated bytes through codec ``name`` in random chunks;
-    returns (bytes fed, ``"clean"`` or ``"crash: ..."``)."""
+    returns (bytes fed, chunks fed, frames the codec refused with its own error, ``"clean"`` or
+    ``"crash: ..."``)."""
     make, errors, seed = _codecs()[name]
     feed = make()
-    fed = 0
+    fed = chunks = 0
+    _refused[0] = 0
     try:
         while fed < total_bytes:
             if rng.random() < 0.5:
@@ -276,8 +294,9 @@ def feed_codec(name: str, total_bytes: int, rng: np.random.Generator) -> tuple[i
             for i in range(0, len(chunk), 61):
                 feed(chunk[i:i + 61])
             fed += len(chunk)
+            chunks += 1
     except errors:
-        return fed, "clean"
+        return fed, chunks, _refused[0] + 1, "clean"
     except Exception as e:  # noqa: BLE001
-        return fed, f"crash: {type(e).__name__}: {str(e)[:200]}"
-    return fed, "clean"
+        return fed, chunks, _refused[0], f"crash: {type(e).__name__}: {str(e)[:200]}"
+    return fed, chunks, _refused[0], "clean"

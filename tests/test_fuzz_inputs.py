@@ -71,7 +71,8 @@ def test_unmutated_seed_files_load(area: str) -> None:
 @settings(max_examples=4, deadline=None, derandomize=True, database=None)
 @given(seed=st.integers(0, 2**32 - 1))
 def test_codec_gives_only_its_own_error(name: str, seed: int) -> None:
-    (fed, outcome), peak = _bounded(
+    (fed, chunks, refused, outcome), peak = _bounded(
         lambda: fuzz.feed_codec(name, 16 * 1024, np.random.default_rng(seed)))
-    assert outcome == "clean" and fed >= 16 * 1024
+    assert outcome == "clean" and fed >= 16 * 1024 and chunks > 0
+    assert refused > 0   # the damage reached the parsers, not only the framing
     assert peak < MEMORY_BYTES
