@@ -91,7 +91,7 @@ def run_once(case: dict[str, Any], record_dir: str | None) -> dict[str, Any]:
     from executive.loading import shipped_tree
     from executive.mission import World, build_mission, run_mission
     from executive.recorder import Recorder
-    from executive.run_folder import finish, open_recorder
+    from executive.run_folder import open_recorder
     from executive.scenario import scenario_config
     s = case.get("scenario")
     config = scenario_config(s) if s is not None else load_config(None)
@@ -123,7 +123,6 @@ def picture_costs(record_dir: str, mission: Any, result: Any, case: dict[str, An
                   config: Any) -> dict[str, float]:
     """Milliseconds of each picture of the finished run, drawn one by one as finish does."""
     from executive.draw_run import draw_run
-    from executive.recorder import read_log
     from executive.replay_html import write_replay
     from executive.run_folder import _distinct_paths, capture_of, tree_picture
     ex = mission.executive

@@ -37,7 +37,7 @@ class BagError(ValueError):
 
 def _rosbags() -> Any:
     try:
-        import rosbags  # noqa: F401
+        import rosbags  # noqa: F401 - only whether it is there
     except ImportError:
         raise BagError("rosbags is not installed: pip install 'navbt[bags]'") from None
     from rosbags import typesys

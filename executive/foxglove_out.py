@@ -8,12 +8,12 @@ topic              schema                      what
 =================  ==========================  =============================================
 /map               foxglove.Grid               the static map (0 free .. 100 occupied, 255 unknown)
 /global_costmap    foxglove.Grid               costmap_2d values, when they change (<= 0.1 Hz)
-/local_costmap     foxglove.Grid               costmap_2d values, 2 Hz
+/local_costmap     foxglove.Grid               costmap_2d values, 1 Hz
 /scan              foxglove.LaserScan          every new scan, in the ``laser`` frame
 /pose              foxglove.PoseInFrame        the estimated robot pose in ``map``
 /plan              foxglove.PosesInFrame       the global path, when it changes
 /particlecloud     foxglove.PosesInFrame       AMCL's particles (when AMCL runs), 2 Hz
-/tf                foxglove.FrameTransforms    map->odom, odom->base_link, base_link->laser
+/tf                foxglove.FrameTransforms    map->odom, odom->base_link; base_link->laser first
 /behavior_tree     JSON                        every node's status when one changes
 /cmd_vel           JSON                        the command sent to the base
 /events            foxglove.Log                goals, recoveries (warning), faults and errors
@@ -43,6 +43,7 @@ LIVE_RESEND_S = 2.0        # simulated seconds between re-sends of map and costm
 # simulated seconds between checks of the global costmap in a recording: a big map is a few MB a
 # message, and compressing those dominated the cost of run.mcap at shorter periods
 GLOBAL_EVERY_S = 10.0
+LOCAL_EVERY_S = 1.0        # simulated seconds between local costmaps
 MAX_PARTICLES = 500
 
 
@@ -108,7 +109,8 @@ class FoxgloveSink:
                 capabilities=[Capability.Time, Capability.Parameters],
                 server_listener=_parameter_listener(self))
         self._next = {"global": -math.inf, "local": -math.inf, "particles": -math.inf,
-                      "map": -math.inf}
+                      "resend": -math.inf}
+        self._origin = _pose(self._m, Pose2D())
         self._last_scan = None
         self._last_global: np.ndarray | None = None
         self._status: list[str] = []
@@ -141,23 +143,30 @@ class FoxgloveSink:
         ns = _ns(t)
         self._pace(t)
         comps = executive.components
-        if self.grid is not None and (t >= self._next["map"] or not self.counts["/map"]):
+        # fixed things (the map, the laser's mount) go out first, and again now and then live
+        resend = t >= self._next["resend"]
+        if resend:
+            self._next["resend"] = t + LIVE_RESEND_S if self.live else math.inf
+        if self.grid is not None and resend:
             self._log("/map", _occupancy_grid(self._m, self.grid, ns), ns)
-            self._next["map"] = t + LIVE_RESEND_S if self.live else math.inf
         self._costmaps(comps, t, ns)
         est = executive.robot.pose()
         odom = executive.last_odom
-        self._transforms(est, odom.pose if odom is not None else est, ns)
+        self._transforms(est, odom.pose if odom is not None else est, ns,
+                         with_laser=resend)
         self._log("/pose", self._m.PoseInFrame(timestamp=_stamp(self._m, ns), frame_id="map",
                                                pose=_pose(self._m, est)), ns)
         scan = executive.last_scan
         if scan is not None and scan is not self._last_scan:
             self._last_scan = scan
             r = np.asarray(scan.ranges, dtype=np.float64)
-            r = np.where(np.isfinite(r) & (r < scan.range_max), r, 0.0)  # 0: no return
+            bad = ~(r < scan.range_max)            # NaN, inf and max range: no return
+            if bad.any():
+                r = r.copy()
+                r[bad] = 0.0
             self._log("/scan", self._m.LaserScan(
                 timestamp=_stamp(self._m, _ns(float(scan.stamp))), frame_id="laser",
-                pose=_pose(self._m, Pose2D()), start_angle=float(scan.angle_min),
+                pose=self._origin, start_angle=float(scan.angle_min),
                 end_angle=float(scan.angle_min + scan.angle_increment * (len(r) - 1)),
                 ranges=r.tolist()), ns)
         path = line.get("bb", {}).get("path")
@@ -237,7 +246,7 @@ class FoxgloveSink:
         cm = comps.get("local_costmap")
         if cm is not None and t >= self._next["local"]:
             self._log("/local_costmap", _cost_grid(self._m, cm.costmap, ns), ns)
-            self._next["local"] = t + 0.5
+            self._next["local"] = t + LOCAL_EVERY_S
         cm = comps.get("global_costmap")
         if cm is not None and t >= self._next["global"]:
             costs = cm.costmap.costs
@@ -247,14 +256,15 @@ class FoxgloveSink:
                 self._last_global = costs.copy()
             self._next["global"] = t + (LIVE_RESEND_S if self.live else GLOBAL_EVERY_S)
 
-    def _transforms(self, est: Pose2D, odom: Pose2D, ns: int) -> None:
+    def _transforms(self, est: Pose2D, odom: Pose2D, ns: int, with_laser: bool) -> None:
         m = self._m
         # map->odom corrects odometry drift: est = map_odom * odom
         map_odom = est.compose(_inverse(odom))
         stamp = _stamp(m, ns)
-        self._log("/tf", m.FrameTransforms(transforms=[
-            _tf(m, stamp, "map", "odom", map_odom), _tf(m, stamp, "odom", "base_link", odom),
-            _tf(m, stamp, "base_link", "laser", self._mount)]), ns)
+        tfs = [_tf(m, stamp, "map", "odom", map_odom), _tf(m, stamp, "odom", "base_link", odom)]
+        if with_laser:
+            tfs.append(_tf(m, stamp, "base_link", "laser", self._mount))
+        self._log("/tf", m.FrameTransforms(transforms=tfs), ns)
 
     def _event(self, e: dict[str, Any], ns: int) -> None:
         m = self._m

@@ -48,7 +48,7 @@ def test_run_mcap_channels_schemas_counts_and_stamps(demo_run):
         changes = sum(1 for t in ticks[1:] if t.get("status"))
         assert counts["/behavior_tree"] == 1 + changes
         t_end = ticks[-1]["t"]
-        assert int(t_end / 0.5) <= counts["/local_costmap"] <= int(t_end / 0.5) + 1
+        assert int(t_end) <= counts["/local_costmap"] <= int(t_end) + 1          # 1 Hz
         assert summary.statistics.message_start_time == 0
         # the last message is the mission's end, stamped when the run stopped
         assert summary.statistics.message_end_time == round(footer["time_s"] * 1e9)

@@ -35,7 +35,7 @@ def test_groot_like_picture_of_a_shipped_tree():
         if expect:
             st = KIND_STYLE[expect]
             assert f"shape={st.shape} " in lines[i] and st.fill in lines[i], (t, lines[i])
-        assert f"<b>" in lines[i] and t in lines[i]
+        assert "<b>" in lines[i] and t in lines[i]
         if n.name != t:  # a custom name keeps the type visible
             assert n.name in lines[i]
     # both SubTree instances are framed clusters with their name

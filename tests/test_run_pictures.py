@@ -53,7 +53,6 @@ def test_recovery_badges_never_overlap_or_leave_the_picture():
 
 
 def test_capture_matches_tick_log(demo_run):
-    from executive.capture import RunCapture  # noqa: F401 - the sink under test
     header, ticks, footer = read_log(str(demo_run / "ticks.jsonl"))
     stats = footer["node_stats"]
     assert len(stats) == len(header["nodes"])
