@@ -77,9 +77,10 @@ class Trace:
     overruns: int = 0
     goals: list[tuple[float, float, float]] = field(default_factory=list)
 
-    def distance(self) -> float:
+    def distance(self, first: int = 0) -> float:
+        """Metres driven from pose ``first`` on (a task's share of the mission)."""
         d = 0.0
-        for (x0, y0, _), (x1, y1, _) in zip(self.poses, self.poses[1:]):
+        for (x0, y0, _), (x1, y1, _) in zip(self.poses[first:], self.poses[first + 1:]):
             d += math.hypot(x1 - x0, y1 - y0)
         return d
 
@@ -388,10 +389,11 @@ class Executive:
             raise ValueError("Executive.run: no goals given")
         return Task(self, goals, time_limit).run(on_tick)
 
-    def collisions(self) -> int:
-        """Distinct contact episodes (contacts more than 1 s apart count separately)."""
+    def collisions(self, first: int = 0) -> int:
+        """Distinct contact episodes from contact ``first`` on (contacts more than 1 s apart
+        count separately)."""
         n, last = 0, -math.inf
-        for c in self.trace.contacts:
+        for c in self.trace.contacts[first:]:
             if c["t"] - last > 1.0:
                 n += 1
             last = c["t"]

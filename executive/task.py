@@ -12,10 +12,9 @@ import math
 from dataclasses import dataclass
 from typing import Any, Callable
 
-import numpy as np
-
 from py_trees.common import Status
 
+from navcore.motion.path_progress import remaining_length
 from navcore.types import Path, Pose2D
 
 OUTCOMES = ("succeeded", "failed", "timeout", "stopped", "canceled")
@@ -24,7 +23,8 @@ OUTCOMES = ("succeeded", "failed", "timeout", "stopped", "canceled")
 @dataclass
 class MissionResult:
     """Outcome of a task: ``succeeded``, ``failed``, ``timeout``, ``stopped`` (by an
-    ``on_tick``) or ``canceled``."""
+    ``on_tick``) or ``canceled``. Times, ticks, distance, recoveries and collisions are the
+    task's own (a mission may run several tasks in turn)."""
 
     outcome: str
     goals_reached: int
@@ -78,7 +78,10 @@ class Task:
         self.reached = 0
         self.t0 = executive.clock.now()
         self.result: MissionResult | None = None
-        self._recoveries0 = len(executive.trace.recoveries)
+        # where the mission's trace stood: a task's result counts only what came after
+        trace = executive.trace
+        self._ticks0, self._poses0 = executive.tick_count, len(trace.poses)
+        self._recoveries0, self._contacts0 = len(trace.recoveries), len(trace.contacts)
         executive.set_goal(self.goals[0])
 
     @property
@@ -121,10 +124,11 @@ class Task:
             ex.tree.interrupt()
         ex.stop_robot()
         self.result = MissionResult(outcome, self.reached, len(self.goals),
-                                    ex.clock.now() - self.t0, ex.tick_count,
-                                    ex.trace.distance(),
-                                    [r["recovery"] for r in ex.trace.recoveries],
-                                    ex.collisions(), reason,
+                                    ex.clock.now() - self.t0, ex.tick_count - self._ticks0,
+                                    ex.trace.distance(self._poses0),
+                                    [r["recovery"] for r in
+                                     ex.trace.recoveries[self._recoveries0:]],
+                                    ex.collisions(self._contacts0), reason,
                                     ex.internal_error["traceback"] if ex.internal_error else "")
         ex.recorder.footer(self.result.as_dict())
         return self.result
@@ -140,9 +144,8 @@ class Task:
 
 
 def _remaining(path: Any, pose: Pose2D, goal: Pose2D) -> float:
-    """Metres left: to the path's pose nearest the robot, then along the path to its end."""
+    """Metres left: to the path's pose nearest the robot, then along the path to its end; the
+    straight line to the goal before there is a path."""
     if not isinstance(path, Path) or len(path) == 0:
         return math.hypot(goal.x - pose.x, goal.y - pose.y)
-    xy = path.poses[:, :2]
-    i = int(np.argmin(np.hypot(xy[:, 0] - pose.x, xy[:, 1] - pose.y)))
-    return math.hypot(xy[i, 0] - pose.x, xy[i, 1] - pose.y) + Path(path.poses[i:]).length()
+    return remaining_length(path, pose)

@@ -128,7 +128,11 @@ def test_a_new_goal_replaces_the_running_task_and_cancel_stops_the_base(config):
     assert nav.status == "canceled" and robot.cmd.is_zero()
     assert nav.executive.tree.root.status.name == "INVALID"     # halted
     nav.cancel_task()                                            # nothing left to cancel
-    assert nav.get_result().outcome == "canceled"
+    result = nav.get_result()
+    assert result.outcome == "canceled"
+    # the second task's own figures: its 5 cycles, not the first task's 15 too
+    assert result.ticks == 5 and nav.executive.tick_count == 20
+    assert 0.0 < result.distance < nav.executive.trace.distance() - 0.1
     nav.close()
 
 
