@@ -1,0 +1,66 @@
+"""IsDetourLong: the plan is much longer than the route on the static map alone."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from behaviors.base import FAILURE, Port, PortInformation, Status
+from behaviors.conditions.condition import Condition, yes
+from navcore.planners.map_route import MapOnlyRoute, is_detour
+from navcore.types import Path, Pose2D
+
+
+class IsDetourLong(Condition):
+    """SUCCESS when ``path`` is at least ``ratio`` times, and ``min_extra`` metres, longer than
+    the plan from its first pose to ``goal`` on the global costmap's static layers and inflation
+    alone (what the sensors added left out): the plan is a long detour round something sensed,
+    worth clearing or looking again before driving it. At most ``max_per_goal`` SUCCESSes per
+    goal (0 = no limit), so that a detour round a real obstacle is taken after one look. FAILURE
+    without a path or goal, or when the map has no route either (that is not a detour)."""
+
+    INPUT_PORTS = {
+        "path": PortInformation(Path, True, "the plan to judge"),
+        "goal": PortInformation(Pose2D, True, "its goal"),
+        "ratio": Port(float, False, "plan length / map-only length that counts", 2.0, low=1.0),
+        "min_extra": Port(float, False, "metres the plan must be longer as well", 2.0, low=0.0),
+        "max_per_goal": Port(int, False, "SUCCESSes per goal; 0 = no limit", 1, low=0),
+        "planner_id": PortInformation(str, False, "whose kind and parameters the map-only "
+                                      "plan uses", "GridBased"),
+    }
+    OUTPUT_PORTS: dict[str, PortInformation] = {}
+    DEFAULT_KEYS = {"path": "path", "goal": "goal"}
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        costmap = self.component(kwargs, "global_costmap")
+        planners = kwargs.get("planners") or {}
+        self.route = MapOnlyRoute(costmap, planners.get(self.get_input("planner_id")))
+        self._path: Path | None = None
+        self._verdict = False
+        self._goal: Pose2D | None = None
+        self._fired = 0
+
+    def update(self) -> Status:
+        path, goal = self.read("path"), self.read("goal")
+        if path is None or len(path) < 2 or goal is None:
+            self.say("no path or goal")
+            return FAILURE
+        if not self.route.available:
+            self.say("the global costmap has no layers: cannot tell the map apart")
+            return FAILURE
+        if goal != self._goal:
+            self._goal, self._fired = goal, 0
+        if path is not self._path:   # judge each plan once
+            self._path = path
+            x, y, th = (float(v) for v in path.poses[0])
+            length = path.length()
+            map_length = self.route.length(Pose2D(x, y, th), goal)
+            self._verdict = map_length is not None and is_detour(
+                length, map_length, self.get_input("ratio"), self.get_input("min_extra"))
+            self.say(f"plan {length:.2f} m, map-only "
+                     f"{'none' if map_length is None else f'{map_length:.2f} m'}")
+        limit = self.get_input("max_per_goal")
+        if not self._verdict or (limit > 0 and self._fired >= limit):
+            return FAILURE
+        self._fired += 1
+        return yes(True)

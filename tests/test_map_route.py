@@ -1,0 +1,173 @@
+"""navcore.planners.map_route and the nodes on it (IsDetourLong, IsGoalReachableOnMap), tick by
+tick on scripted worlds: a wall with a doorway that sensed points fill, and a closed room."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from py_trees.blackboard import Client
+from py_trees.common import Access, Status
+
+from behaviors.base import make
+from behaviors.testing import FakeRobot
+from navcore.clock import SimClock
+from navcore.costmap.cost_values import LETHAL_OBSTACLE
+from navcore.costmap.layered import LayeredCostmap
+from navcore.planners import make_planner
+from navcore.planners.map_route import MapOnlyRoute, is_detour, map_only_costmap
+from navcore.synthetic_maps import ascii_map
+from navcore.types import Pose2D
+
+S, F = Status.SUCCESS, Status.FAILURE
+_ns = itertools.count()
+
+# 8 m x 6.4 m (0.2 m cells); a wall at x 4.0..4.2 m with a doorway at y 0.4..1.0 and a gap
+# near the top (y 5.6..5.8)
+WALL = """
+########################################
+#...................#..................#
+#...................#..................#
+#......................................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#...................#..................#
+#......................................#
+#......................................#
+#......................................#
+#...................#..................#
+########################################
+"""
+
+
+def costmap(text: str = WALL) -> LayeredCostmap:
+    return LayeredCostmap.from_params(
+        {"plugins": ["static_layer", "obstacle_layer", "inflation_layer"], "robot_radius": 0.15,
+         "inflation_layer": {"inflation_radius": 0.3}}, static_map=ascii_map(text, 0.2),
+        clock=SimClock())
+
+
+def block_doorway(cm: LayeredCostmap) -> None:
+    """Sensed points fill the low doorway."""
+    ys = np.arange(0.3, 1.3, 0.05)
+    pts = np.column_stack([np.full_like(ys, 4.1), ys, np.full_like(ys, 0.2)])
+    cm.add_points(pts, (3.0, 0.8, 0.2))
+    cm.update_map(Pose2D(3.0, 0.8, 0.0))
+
+
+def test_map_only_costmap_leaves_sensed_obstacles_out_and_keeps_walls():
+    cm = costmap()
+    block_doorway(cm)
+    i, j = cm.costmap.world_to_map(4.1, 0.9)
+    assert cm.costmap.costs[j, i] == LETHAL_OBSTACLE
+    mo = map_only_costmap(cm)
+    assert mo.costs[j, i] < LETHAL_OBSTACLE
+    assert np.count_nonzero(mo.costs == LETHAL_OBSTACLE) == \
+        np.count_nonzero(map_only_costmap(costmap()).costs == LETHAL_OBSTACLE)
+    wi, wj = cm.costmap.world_to_map(4.1, 2.0)            # the wall itself stays
+    assert mo.costs[wj, wi] == LETHAL_OBSTACLE
+
+
+def test_is_detour_needs_both_the_ratio_and_the_extra_length():
+    assert is_detour(10.0, 4.0, 2.0, 2.0)
+    assert not is_detour(7.0, 4.0, 2.0, 2.0)             # only 1.75 times
+    assert not is_detour(0.9, 0.4, 2.0, 2.0)             # 2.25 times but 0.5 m
+    assert is_detour(0.9, 0.4, 2.0, 0.4)
+
+
+def test_map_only_route_is_the_short_one_while_the_real_planner_detours():
+    cm = costmap()
+    planner = make_planner("navfn/NavfnROS", cm.costmap)
+    start, goal = Pose2D(2.0, 0.9, 0.0), Pose2D(6.0, 0.9, 0.0)
+    block_doorway(cm)
+    real = planner.make_plan(start, goal)
+    assert real.ok
+    route = MapOnlyRoute(cm, planner)
+    short = route.length(start, goal)
+    assert short is not None and 3.9 < short < 5.0
+    assert real.path.length() > 2.0 * short               # round the top gap
+
+
+class Env:
+    def __init__(self, cm: LayeredCostmap, pose: Pose2D) -> None:
+        self.ns = f"/maproute{next(_ns)}"
+        self.robot = FakeRobot(pose)
+        self.planner = make_planner("navfn/NavfnROS", cm.costmap)
+        self.components = {"clock": SimClock(), "robot": self.robot, "control_period": 0.05,
+                           "global_costmap": cm, "planners": {"GridBased": self.planner}}
+        self.bb = Client(name="test", namespace=self.ns)
+
+    def node(self, node_type: str, **ports):
+        n = make(node_type, namespace=self.ns, **ports)
+        n.setup(**self.components)
+        return n
+
+    def put(self, key: str, value) -> None:
+        if not self.bb.is_registered(key):
+            self.bb.register_key(key, access=Access.WRITE)
+        self.bb.set(key, value)
+
+
+def tick(node) -> Status:
+    node.tick_once()
+    return node.status
+
+
+def test_is_detour_long_fires_once_per_goal_on_a_detour_and_never_on_the_direct_plan():
+    cm = costmap()
+    start, goal = Pose2D(2.0, 0.9, 0.0), Pose2D(6.0, 0.9, 0.0)
+    env = Env(cm, start)
+    node = env.node("IsDetourLong", ratio=2.0, min_extra=2.0)
+    assert tick(node) == F                                # no path yet
+    env.put("goal", goal)
+    env.put("path", env.planner.make_plan(start, goal).path)
+    assert tick(node) == F                                # the direct plan
+    block_doorway(cm)
+    env.put("path", env.planner.make_plan(start, goal).path)
+    assert tick(node) == S                                # the detour: look again first
+    assert tick(node) == F                                # once per goal: now drive it
+    env.put("path", env.planner.make_plan(start, goal).path)
+    assert tick(node) == F
+    goal2 = Pose2D(6.0, 1.1, 0.0)                          # a new goal: one more look
+    env.put("goal", goal2)
+    env.put("path", env.planner.make_plan(start, goal2).path)
+    assert tick(node) == S
+    lenient = env.node("IsDetourLong", ratio=20.0, min_extra=2.0)
+    assert tick(lenient) == F                              # not 20 times longer
+
+
+def test_is_goal_reachable_on_map_fails_for_a_closed_room_only():
+    room = WALL.replace("#......................................#", "#...................#..................#")
+    cm = costmap(room)
+    env = Env(cm, Pose2D(2.0, 0.9, 0.0))
+    node = env.node("IsGoalReachableOnMap")
+    assert tick(node) == F                                 # no goal
+    env.put("goal", Pose2D(6.0, 0.9, 0.0))
+    assert tick(node) == F                                 # walled off on the map itself
+    env.put("goal", Pose2D(3.0, 3.0, 0.0))
+    assert tick(node) == S
+    open_cm = costmap()
+    block_doorway(open_cm)                                 # sensed only: a recovery may help
+    env2 = Env(open_cm, Pose2D(2.0, 0.9, 0.0))
+    env2.put("goal", Pose2D(6.0, 0.9, 0.0))
+    assert tick(env2.node("IsGoalReachableOnMap")) == S
