@@ -100,6 +100,11 @@ def test_seeds_forms():
     ("scenarios: scenarios/*.yaml\nsearch:\n  DWAPlannerROS.sim_time: {low: 3, high: 1}\n", 3,
      "high"),
     ("scenarios: [scenarios/*.yaml\n", 2, "not valid YAML"),
+    # a bad value is named at its own line, wherever the point takes it from
+    ("scenarios: scenarios/*.yaml\npoints:\n  - {DWAPlannerROS.sim_time: 1.0}\n"
+     "  - {DWAPlannerROS.sim_tiem: 2.0}\n", 4, "sim_tiem"),
+    ("scenarios: scenarios/*.yaml\ngrid:\n  DWAPlannerROS.sim_time: [1.0, 2.0]\nzip:\n"
+     "  DWAPlannerROS.vx_samples:\n    - 3\n    - -4\n", 7, "vx_samples"),
 ])
 def test_bad_sweep_files_name_file_and_line(tmp_path, catalogue, body, line, words):
     p = _spec(tmp_path, body)

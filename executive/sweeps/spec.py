@@ -233,15 +233,19 @@ def _check_key(key: Any, path: tuple, err: _Where) -> str:
     return key
 
 
-def expand_points(doc: Mapping[str, Any], err: _Where) -> list[dict[str, Any]]:
-    """The points of a sweep: ``points`` x product(grid axes) x zip (advancing together)."""
-    axes: list[list[dict[str, Any]]] = []
+def expand_points(doc: Mapping[str, Any], err: _Where,
+                  origins: list[dict[str, tuple]] | None = None) -> list[dict[str, Any]]:
+    """The points of a sweep: ``points`` x product(grid axes) x zip (advancing together).
+    ``origins``, when given, gets for each point the key path where each of its values is
+    written (``("grid", key, i)``, ``("zip", key, i)``, ``("points", i, key)``)."""
+    axes: list[list[tuple[dict[str, Any], dict[str, tuple]]]] = []
     grid = doc.get("grid") or {}
     if not isinstance(grid, Mapping):
         raise err(("grid",), "grid: expected a mapping of parameter -> list of values")
     for k, v in grid.items():
         key = _check_key(k, ("grid", k), err)
-        axes.append([{key: x} for x in _axis_values(v, key, ("grid", k), err)])
+        axes.append([({key: x}, {key: ("grid", k, i)})
+                     for i, x in enumerate(_axis_values(v, key, ("grid", k), err))])
     z = doc.get("zip")
     if z is not None:
         if not isinstance(z, Mapping) or not z:
@@ -253,8 +257,9 @@ def expand_points(doc: Mapping[str, Any], err: _Where) -> list[dict[str, Any]]:
             raise err(("zip",), f"zip: every list must have the same length, got "
                                 f"{', '.join(f'{k}: {len(v)}' for k, v in lists.items())}")
         n = lengths.pop()
-        axes.append([{k: v[i] for k, v in lists.items()} for i in range(n)])
-    base_points: list[dict[str, Any]] = [{}]
+        axes.append([({k: v[i] for k, v in lists.items()}, {k: ("zip", k, i) for k in lists})
+                     for i in range(n)])
+    base_points: list[tuple[dict[str, Any], dict[str, tuple]]] = [({}, {})]
     if "points" in doc:
         pts = doc["points"]
         if not isinstance(pts, list) or not pts:
@@ -263,22 +268,26 @@ def expand_points(doc: Mapping[str, Any], err: _Where) -> list[dict[str, Any]]:
         for i, p in enumerate(pts):
             if not isinstance(p, Mapping):
                 raise err(("points", i), f"points[{i}]: expected a mapping, got {p!r}")
-            base_points.append({_check_key(k, ("points", i, k), err): v for k, v in p.items()})
+            base_points.append(({_check_key(k, ("points", i, k), err): v for k, v in p.items()},
+                                {k: ("points", i, k) for k in p}))
     out: list[dict[str, Any]] = []
     n_total = len(base_points)
     for a in axes:
         n_total *= len(a)
     if n_total > MAX_RUNS:
         raise err(("grid",), f"the sweep has {n_total} points, more than {MAX_RUNS}")
-    for bp in base_points:
+    for bp, bwhere in base_points:
         for combo in itertools.product(*axes):
-            p = dict(bp)
-            for part in combo:
+            p, where = dict(bp), dict(bwhere)
+            for part, part_where in combo:
                 for k in part:
                     if k in p:
-                        raise err(("grid",), f"'{k}' is set by more than one axis")
+                        raise err(part_where[k], f"'{k}' is set by more than one axis")
                 p.update(part)
+                where.update(part_where)
             out.append(p)
+            if origins is not None:
+                origins.append(where)
     return out
 
 
@@ -396,20 +405,23 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     sampler_seed = doc.get("sampler_seed", 0)
     if isinstance(sampler_seed, bool) or not isinstance(sampler_seed, int):
         raise err(("sampler_seed",), "sampler_seed: expected an integer")
-    points = expand_points(doc, err)
+    origins: list[dict[str, tuple]] = []
+    points = expand_points(doc, err, origins)
     search = _search(doc, err)
     spec = SweepSpec(name=str(doc.get("name") or os.path.splitext(os.path.basename(path))[0]),
                      source=path, scenarios=scenarios, seeds=seeds, trees=trees, config=config,
                      points=points, time_limit=None if time_limit is None else float(time_limit),
                      search=search, trials=trials, sampler_seed=sampler_seed,
                      description=str(doc.get("description") or "").strip())
-    check_spec(spec, err)
+    check_spec(spec, err, origins)
     return spec
 
 
-def check_spec(spec: SweepSpec, err: _Where) -> None:
+def check_spec(spec: SweepSpec, err: _Where,
+               origins: list[dict[str, tuple]] | None = None) -> None:
     """Load every scenario and tree, and apply every point (and the search bounds) to them, so
-    that a bad name or value is reported now with its line, not after an hour of running."""
+    that a bad name or value is reported now with its line, not after an hour of running.
+    ``origins`` (from ``expand_points``) lets the error name the line of the bad value."""
     from executive.loading import TreeLoadError, load_tree_file
     from executive.scenario import ScenarioError, load_scenario
 
@@ -425,16 +437,17 @@ def check_spec(spec: SweepSpec, err: _Where) -> None:
             load_tree_file(t, namespace="/sweep_check")
         except TreeLoadError as e:
             raise err(("trees",), f"tree: {e}") from None
-    probes: list[tuple[tuple, dict[str, Any]]] = []
+    probes: list[tuple[tuple, dict[str, Any], dict[str, tuple]]] = []
     for i, p in enumerate(spec.points):
-        probes.append((_point_path(p, i), p))
+        where = origins[i] if origins is not None else {}
+        probes.append((where.get(next(iter(p), ""), ()), p, where))
     for d in spec.search:
         for v in (d.choices or (d.low, d.high)):
             if d.integer and v is not None:
                 v = int(v)
-            probes.append((("search", d.key), {d.key: v}))
+            probes.append((("search", d.key), {d.key: v}, {}))
     seen: set[str] = set()
-    for path, p in probes:
+    for path, p, where in probes:
         key = json.dumps(sorted(p.items()), default=repr)
         if key in seen:
             continue
@@ -443,17 +456,25 @@ def check_spec(spec: SweepSpec, err: _Where) -> None:
             try:
                 apply_point(sc, p, spec.config)
             except ApplyError as e:
-                raise err(path, str(e)) from None
+                raise err(_culprit(p, where, path, lambda q: apply_point(sc, q, spec.config)),
+                          str(e)) from None
         for t in spec.trees:
             try:
                 tree_with_ports(t, p)
             except ApplyError as e:
-                raise err(path, str(e)) from None
+                raise err(_culprit(p, where, path, lambda q: tree_with_ports(t, q)),
+                          str(e)) from None
 
 
-def _point_path(p: Mapping[str, Any], index: int) -> tuple:
-    """Where a point's keys were written (any of them: grid, zip or points)."""
-    k = next(iter(p), None)
-    if k is None:
-        return ()
-    return ("grid", k)
+def _culprit(p: Mapping[str, Any], where: Mapping[str, tuple], default: tuple,
+             apply: Any) -> tuple:
+    """Where the value of ``p`` is written that fails on its own (``apply`` raises ApplyError
+    for it alone); ``default`` when none does (the values fail only together)."""
+    from executive.sweeps.apply import ApplyError
+    for k, v in p.items():
+        if k in where:
+            try:
+                apply({k: v})
+            except ApplyError:
+                return where[k]
+    return default
