@@ -59,13 +59,7 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
     global _tree_dir
     t0 = time.perf_counter()
     point = dict(task.point)
-    record: dict[str, Any] = {
-        "run_id": task.run_id, "scenario": os.path.basename(task.scenario), "seed": task.seed,
-        "tree": os.path.splitext(os.path.basename(task.tree))[0], "point": point,
-        "outcome": "error", "reason": None, "passed": 0, "solved": 0, "sim_time_s": None,
-        "recoveries": [], "n_recoveries": 0, "contacts": None, "path_length_m": None,
-        "min_clearance_m": None, "turning_rad_per_m": None, "goals_reached": None,
-        "goals_total": None, "error": None, "navbt_version": navbt_version()}
+    record = _error_record(task, None)   # filled in as the run gets on
     try:
         from executive.scenario import run_scenario
         from executive.sweeps.apply import apply_point, tree_with_ports
@@ -103,7 +97,8 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
     return record, timing
 
 
-def _error_record(task: RunTask, why: str) -> dict[str, Any]:
+def _error_record(task: RunTask, why: str | None) -> dict[str, Any]:
+    """The record of a run that did not finish (``why``: the error; None while it runs)."""
     return {"run_id": task.run_id, "scenario": os.path.basename(task.scenario),
             "seed": task.seed, "tree": os.path.splitext(os.path.basename(task.tree))[0],
             "point": dict(task.point), "outcome": "error", "reason": None, "passed": 0,
