@@ -6,7 +6,16 @@ from typing import Any
 
 from behaviors.actions.recovery_action import COSTMAP_CHOICES, RecoveryAction
 from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
+from navcore.costmap.clear_memory import memory_of
 from navcore.types import Pose2D
+
+# navbt's own ports of every clearing node (Nav2's clears erase everything: the default)
+CONFIRM_PORTS = {
+    "keep_confirmed": PortInformation(bool, False, "keep obstacles the sensors marked again "
+                                      "within confirm_window s of the previous clear", False),
+    "confirm_window": Port(float, False, "s after a clear in which a re-marked cell counts "
+                           "as confirmed", 10.0, low=0.0),
+}
 
 
 class ClearCostmap(RecoveryAction):
@@ -27,16 +36,24 @@ class ClearCostmap(RecoveryAction):
             self.say(f"no {which} costmap was set up")
             return FAILURE
         pose = self.robot.pose() if self.robot is not None else None
+        kept = 0
         for h in handles:
-            self.clear(h, pose)
-        self.say(f"cleared {which}")
+            if self.get_input("keep_confirmed") and hasattr(h, "obstacle_layers"):
+                mem = memory_of(h, self.get_input("confirm_window"))
+                kept += mem.clear(h, self.clock.now(), lambda h=h: self.clear(h, pose))
+            else:
+                self.clear(h, pose)
+        self.say(f"cleared {which}" + (f", kept {kept} confirmed obstacle cells" if kept else ""))
         return SUCCESS
 
 
 class ClearEntireCostmap(ClearCostmap):
-    """Reset every layer of the ``costmap`` (local, global or both) in one tick. SUCCESS."""
+    """Reset every layer of the ``costmap`` (local, global or both) in one tick. SUCCESS.
+    With ``keep_confirmed`` (every clearing node has it) obstacle cells the sensors marked again
+    within ``confirm_window`` s of the previous clear stay (navcore.costmap.clear_memory)."""
 
-    INPUT_PORTS = {"costmap": PortInformation(str, False, "local, global or both", "both")}
+    INPUT_PORTS = {"costmap": PortInformation(str, False, "local, global or both", "both"),
+                   **CONFIRM_PORTS}
     NEEDS_ROBOT = False
 
     def clear(self, handle: Any, pose: Pose2D | None) -> None:
@@ -51,6 +68,7 @@ class ClearCostmapExceptRegion(ClearCostmap):
     INPUT_PORTS = {
         "costmap": PortInformation(str, False, "local, global or both", "both"),
         "reset_distance": Port(float, False, "side of the kept square, m", 1.0, low=0.0),
+        **CONFIRM_PORTS,
     }
 
     def clear(self, handle: Any, pose: Pose2D | None) -> None:
@@ -66,6 +84,7 @@ class ClearCostmapAroundRobot(ClearCostmap):
     INPUT_PORTS = {
         "costmap": PortInformation(str, False, "local, global or both", "local"),
         "reset_distance": Port(float, False, "side of the cleared square, m", 1.0, low=0.0),
+        **CONFIRM_PORTS,
     }
 
     def clear(self, handle: Any, pose: Pose2D | None) -> None:
