@@ -166,6 +166,12 @@ def test_is_goal_reachable_on_map_fails_for_a_closed_room_only():
     assert tick(node) == F                                 # walled off on the map itself
     env.put("goal", Pose2D(3.0, 3.0, 0.0))
     assert tick(node) == S
+    env.put("goal", Pose2D(4.1, 3.0, 0.0))                 # inside the wall
+    assert tick(node) == F
+    carrot = Env(cm, Pose2D(2.0, 0.9, 0.0))
+    carrot.components["planners"] = {"GridBased": object()}   # not navfn / global_planner
+    carrot.put("goal", Pose2D(6.0, 0.9, 0.0))
+    assert tick(carrot.node("IsGoalReachableOnMap")) == S   # cannot judge: recover
     open_cm = costmap()
     block_doorway(open_cm)                                 # sensed only: a recovery may help
     env2 = Env(open_cm, Pose2D(2.0, 0.9, 0.0))

@@ -13,11 +13,12 @@ from navcore.types import Pose2D
 
 class IsGoalReachableOnMap(Condition):
     """FAILURE when a plan from the robot to ``goal`` on the global costmap's static layers and
-    inflation alone (what the sensors added left out) finds no path (NO_VALID_PATH) or the goal
-    off the map: no clearing or motion recovery can reach it, so a tree should give up with the
-    planner's reason rather than recover. SUCCESS otherwise (also when the map-only plan fails
-    for a reason a recovery can change, such as a start inside inflation, and with a
-    costmap without layers)."""
+    inflation alone (what the sensors added left out) finds no path (NO_VALID_PATH), the goal
+    inside a map obstacle beyond the planner's tolerance (GOAL_OCCUPIED) or off the map: no
+    clearing or motion recovery can reach it, so a tree should give up with the planner's reason
+    rather than recover. SUCCESS otherwise: also when the map-only plan fails for a reason a
+    recovery can change (a start inside inflation), with a costmap without layers, and with a
+    planner other than navfn or global_planner (carrot_planner's idea of reachable differs)."""
 
     INPUT_PORTS = {
         "goal": PortInformation(Pose2D, True, "goal pose in map"),
@@ -41,8 +42,12 @@ class IsGoalReachableOnMap(Condition):
         if not self.route.available:
             self.say("the global costmap has no layers: cannot tell the map apart")
             return SUCCESS
+        if not self.route.same_kind:
+            self.say("not navfn or global_planner: cannot judge reachability")
+            return SUCCESS
         result = self.route.plan(self.pose(), goal)
-        if not result.ok and result.reason in (PlanReason.NO_PATH, PlanReason.GOAL_OUTSIDE_MAP):
+        if not result.ok and result.reason in (PlanReason.NO_PATH, PlanReason.GOAL_OCCUPIED,
+                                               PlanReason.GOAL_OUTSIDE_MAP):
             self.say(f"no route on the map alone: {result.reason}")
             return FAILURE
         return SUCCESS

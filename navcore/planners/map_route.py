@@ -58,6 +58,12 @@ class MapOnlyRoute:
         self._planner: Any = None
 
     @property
+    def same_kind(self) -> bool:
+        """True when the map-only plan is made by the real planner's kind (navfn or
+        global_planner); otherwise it is navfn's, whose reasons may not be the real one's."""
+        return isinstance(self.template, (NavFn, GlobalPlanner))
+
+    @property
     def available(self) -> bool:
         """False for a costmap without layers (nothing to tell the static map apart by)."""
         return hasattr(self.layered, "layers") and hasattr(self.layered, "costmap")
