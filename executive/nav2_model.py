@@ -42,7 +42,6 @@ NOT_PROVIDED: dict[str, str] = {
     "TransformAvailable": "needs a TF buffer; navbt's frames are fixed by the executive",
     "ToggleCollisionMonitor": "needs Nav2's collision monitor server",
     "InitialPoseReceived": "needs the /initialpose topic of RViz",
-    "IsBatteryCharging": "needs a sensor_msgs/BatteryState with a charging status",
     "PauseResumeController": "needs pause/resume ROS services",
     "SmootherSelector": "needs a smoother server with several smoother plugins",
     "WouldASmootherRecoveryHelp": "needs the smoother server's error codes",

@@ -585,3 +585,42 @@ def test_distance_traveled():
     for i in range(1, 21):
         w.robot.teleport(Pose2D(i * 0.51, 0.0, 0.0))
         assert tick(n) == (F if i % 2 else S), i
+
+
+def test_battery_conditions():
+    """test/plugins/condition/test_is_battery_low.cpp (percentage and voltage) and
+    test_is_battery_charging.cpp, with the robot's battery state instead of a topic."""
+    from hw.interfaces import BatteryState
+    w = World()
+    low = node("IsBatteryLow", world=w, min_battery=0.5)
+    volts = node("IsBatteryLow", world=w, min_battery=5.0, is_voltage=True)
+    charging = node("IsBatteryCharging", world=w)
+    for pct, v, want_low, want_volts in [(1.0, 10.0, F, F), (0.49, 4.9, S, S),
+                                         (0.51, 5.1, F, F), (0.0, 0.0, S, S)]:
+        w.robot._battery = BatteryState(voltage=v, percentage=pct)
+        assert (tick(low), tick(volts)) == (want_low, want_volts), pct
+    assert tick(charging) == F
+    w.robot._battery = BatteryState(voltage=12.0, percentage=0.3, charging=True)
+    assert tick(charging) == S
+
+
+@pytest.mark.parametrize("node_type, table", [
+    ("WouldAPlannerRecoveryHelp", [(0, F), (200, S), (208, S), (207, S), (201, F), (206, F)]),
+    ("WouldAControllerRecoveryHelp", [(0, F), (100, S), (101, F), (102, F), (103, F), (104, S),
+                                      (105, S), (106, S)]),
+])
+def test_would_a_recovery_help(node_type, table):
+    """test/plugins/condition/test_would_a_planner_recovery_help.cpp and
+    test_would_a_controller_recovery_help.cpp: the codes a recovery may fix."""
+    n = node(node_type, error_code="{code}")
+    for code, want in table:
+        bb_set(n, "code", code)
+        assert tick(n) == want, code
+
+
+def test_are_error_codes_present():
+    """test/plugins/condition/test_are_error_codes_present.cpp."""
+    n = node("AreErrorCodesPresent", error_code="{code}", error_codes_to_check=[100])
+    for code, want in [(0, F), (100, S)]:
+        bb_set(n, "code", code)
+        assert tick(n) == want
