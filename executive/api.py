@@ -31,7 +31,7 @@ from executive.config import (ConfigError, ConfigSources, RobotConfig, config_fr
                               load_config_sources)
 from executive.config import load_config as _load_config_file
 from executive.errors import WiringError
-from executive.executive import Executive, _mission_ids
+from executive.executive import Executive, new_namespace
 from executive.loading import TreeLoadError, load_tree_file, load_tree_text, shipped_tree
 from executive.mission import Mission, assemble, build_mission
 from executive.recorder import Recorder
@@ -47,10 +47,6 @@ __all__ = ["load_tree", "parse_tree", "load_config", "load_map", "shipped_tree",
            "ConfigSources"]
 
 
-def _namespace() -> str:
-    return f"/mission_{next(_mission_ids)}"
-
-
 def _tree_path(path: str | os.PathLike) -> str:
     """A file path as given, or the path of a shipped tree named without a suffix (``nav2``)."""
     path = str(path)
@@ -62,12 +58,12 @@ def _tree_path(path: str | os.PathLike) -> str:
 def load_tree(path: str | os.PathLike) -> LoadedTree:
     """A YAML or BT.CPP XML tree file (or the name of a shipped tree: ``"nav2"``), built under
     a blackboard namespace of its own. Errors are ``TreeLoadError`` naming file, line, node."""
-    return load_tree_file(_tree_path(path), namespace=_namespace())
+    return load_tree_file(_tree_path(path), namespace=new_namespace())
 
 
 def parse_tree(text: str, name: str = "<text>") -> LoadedTree:
     """A tree from YAML or BT.CPP XML text (XML when it starts with ``<``)."""
-    return load_tree_text(text, namespace=_namespace(), name=name)
+    return load_tree_text(text, namespace=new_namespace(), name=name)
 
 
 def load_config(source: str | os.PathLike | Mapping[str, Any] | ConfigSources | None = None
@@ -92,7 +88,7 @@ def _tree(tree: LoadedTree | str | os.PathLike, config: RobotConfig) -> LoadedTr
     ``build_mission`` loads one)."""
     if isinstance(tree, LoadedTree):
         return tree
-    return load_tree_file(_tree_path(tree), namespace=_namespace(),
+    return load_tree_file(_tree_path(tree), namespace=new_namespace(),
                           port_defaults=config.port_defaults())
 
 

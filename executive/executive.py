@@ -41,6 +41,11 @@ from executive.tree_loader import LoadedTree
 _mission_ids = itertools.count(1)
 
 
+def new_namespace() -> str:
+    """A blackboard namespace no other mission of this process has (``/mission_N``)."""
+    return f"/mission_{next(_mission_ids)}"
+
+
 class LiveRobotState:
     """RobotState for behaviours: the executive refreshes it once per cycle (sense/estimate)."""
 
@@ -128,7 +133,7 @@ class Executive:
                 raise ValueError(f"Executive: namespace {namespace!r} is not the tree's "
                                  f"{tree.namespace!r}")
             namespace = tree.namespace
-        self.namespace = namespace or f"/mission_{next(_mission_ids)}"
+        self.namespace = namespace or new_namespace()
         # the tree handle (blackboard keys of the mission) and the py_trees manager it holds
         self.handle = tree if isinstance(tree, LoadedTree) else LoadedTree.of(tree, self.namespace)
         self.tree = self.handle.tree

@@ -21,7 +21,7 @@ from navcore.types import Pose2D
 
 from executive.config import RobotConfig
 from executive.errors import WiringError
-from executive.executive import Executive, MissionResult, _mission_ids
+from executive.executive import Executive, MissionResult, new_namespace
 from executive.loading import load_tree_file
 from executive.tree_loader import LoadedTree
 from executive.perception import Localisation, Perception, paint_phantom
@@ -72,7 +72,7 @@ def build_mission(tree_path: str | LoadedTree, config: RobotConfig, grid: Occupa
     if isinstance(tree_path, LoadedTree):
         tree, source, namespace = tree_path, tree_path.source, tree_path.namespace
     else:
-        namespace = f"/mission_{next(_mission_ids)}"   # the executive's counter: names unique
+        namespace = new_namespace()
         tree = load_tree_file(tree_path, namespace=namespace,
                               port_defaults=config.port_defaults())
         source = str(tree_path)
