@@ -624,3 +624,16 @@ def test_are_error_codes_present():
     for code, want in [(0, F), (100, S)]:
         bb_set(n, "code", code)
         assert tick(n) == want
+
+
+def test_initial_pose_received_and_transform_available():
+    """test/plugins/condition/test_initial_pose_received.cpp and test_transform_available.cpp
+    (frames are the executive's: known frames succeed, others fail)."""
+    n = node("InitialPoseReceived")
+    assert tick(n) == F
+    bb_set(n, "initial_pose_received", True)
+    assert tick(n) == S
+    known = node("TransformAvailable", port_values={"child": "base_link", "parent": "map"})
+    assert tick(known) == S
+    other = node("TransformAvailable", port_values={"child": "camera", "parent": "map"})
+    assert tick(other) == F
