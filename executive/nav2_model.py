@@ -41,8 +41,6 @@ NOT_PROVIDED: dict[str, str] = {
     "NavigateThroughPoses": "a BT node that calls another bt_navigator; navbt runs one tree",
     "ToggleCollisionMonitor": "needs Nav2's collision monitor server",
     "PauseResumeController": "needs pause/resume ROS services",
-    "SmootherSelector": "needs a smoother server with several smoother plugins",
-    "WouldASmootherRecoveryHelp": "needs the smoother server's error codes",
     "CheckStopStatus": "needs the controller server's stop-status service",
 }
 

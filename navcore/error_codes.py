@@ -150,3 +150,6 @@ CONTROLLER_RECOVERABLE = [int(ControllerError.UNKNOWN), int(ControllerError.PATI
                           int(ControllerError.NO_VALID_CONTROL)]
 ROUTE_RECOVERABLE = [int(RouteErrorCode.UNKNOWN), int(RouteErrorCode.NO_VALID_ROUTE),
                      int(RouteErrorCode.TIMEOUT)]
+SMOOTHER_RECOVERABLE = [int(SmootherError.UNKNOWN), int(SmootherError.TIMEOUT),
+                        int(SmootherError.FAILED_TO_SMOOTH_PATH),
+                        int(SmootherError.SMOOTHED_PATH_IN_COLLISION)]

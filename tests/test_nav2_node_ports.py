@@ -367,8 +367,9 @@ def test_goal_list_actions():
 
 def test_selectors():
     """test_progress_checker_selector_node.cpp, test_goal_checker_selector_node.cpp,
-    test_path_handler_selector_node.cpp: the default until a selection arrives."""
-    for kind in ("progress_checker", "goal_checker", "path_handler"):
+    test_path_handler_selector_node.cpp, test_smoother_selector_node.cpp: the default until a
+    selection arrives."""
+    for kind in ("progress_checker", "goal_checker", "path_handler", "smoother"):
         name = "".join(p.capitalize() for p in kind.split("_")) + "Selector"
         n = node(name, **{f"default_{kind}": "Default", f"selected_{kind}": "{sel}"})
         assert tick(n) == S and bb_get(n, "sel") == "Default"
@@ -608,10 +609,13 @@ def test_battery_conditions():
     ("WouldAPlannerRecoveryHelp", [(0, F), (200, S), (208, S), (207, S), (201, F), (206, F)]),
     ("WouldAControllerRecoveryHelp", [(0, F), (100, S), (101, F), (102, F), (103, F), (104, S),
                                       (105, S), (106, S)]),
+    ("WouldASmootherRecoveryHelp", [(0, F), (500, S), (501, F), (502, S), (503, S), (504, S),
+                                    (505, F)]),
 ])
 def test_would_a_recovery_help(node_type, table):
-    """test/plugins/condition/test_would_a_planner_recovery_help.cpp and
-    test_would_a_controller_recovery_help.cpp: the codes a recovery may fix."""
+    """test/plugins/condition/test_would_a_planner_recovery_help.cpp,
+    test_would_a_controller_recovery_help.cpp and test_would_a_smoother_recovery_help.cpp:
+    the codes a recovery may fix."""
     n = node(node_type, error_code="{code}")
     for code, want in table:
         bb_set(n, "code", code)

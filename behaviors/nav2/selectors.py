@@ -1,4 +1,5 @@
-"""ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector (Nav2 actions).
+"""ProgressCheckerSelector, GoalCheckerSelector, PathHandlerSelector, SmootherSelector (Nav2
+actions).
 
 As PlannerSelector and ControllerSelector: the id asked for at run time (Nav2's topic becomes a
 blackboard key) else the default, written to the selected-id output; SUCCESS.
@@ -48,3 +49,12 @@ class PathHandlerSelector(Selector):
     DEFAULT_KEYS = {"requested": "path_handler_selection",
                     "selected_path_handler": "selected_path_handler"}
     DEFAULT_PORT, OUTPUT_PORT = "default_path_handler", "selected_path_handler"
+
+
+class SmootherSelector(Selector):
+    """Choose the smoother id SmoothPath uses (Nav2 ``SmootherSelector``)."""
+
+    INPUT_PORTS = _ports("smoother", "simple_smoother", "smoother_selector")
+    OUTPUT_PORTS = {"selected_smoother": PortInformation(str, True, "the smoother id")}
+    DEFAULT_KEYS = {"requested": "smoother_selection", "selected_smoother": "selected_smoother"}
+    DEFAULT_PORT, OUTPUT_PORT = "default_smoother", "selected_smoother"
