@@ -6,6 +6,8 @@ ros_navigation_internals.md section 8 (inscribed 0.2 m, inflation_radius 0.55, c
 10), start and goal the free cells nearest (45, 45) and (n-45, n-45); plus the Willow Garage map
 between the two free cells farthest apart along the diagonal. Each figure is the median of several
 full ``make_plan`` calls after a warm-up (numba compiled and cached), in process CPU time.
+``*_replan_1000_ms``: a ``reuse_search`` replan toward the same goal after a scan-sized cost change
+near the robot, the robot 0.5 m further along (see ``replan_ms``).
 ``--json`` prints one JSON object as the last line.
 ``global_planner_astar_grid`` is ``use_dijkstra: false`` with ``use_grid_path: true``; its C++
 figure is ROS's greedy single-assignment A*, which is not least-cost (ours is navfn's A*
@@ -125,9 +127,55 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{name:26s} willow {cm.size_x}x{cm.size_y}  {ms:8.2f} ms  "
                       f"path {r.path.length():.1f} m")
             break
+    if 1000 in args.sizes:
+        g = office_map(1000)
+        for name, make in (("navfn", NavFn), ("global_planner", GlobalPlanner)):
+            cm = costmap_from_grid(g.data, g.resolution, (g.origin.x, g.origin.y))
+            ms, full_ms, repaired = replan_ms(cm, make, max(args.repeat, 9))
+            out[f"{name}_replan_1000_ms"] = round(ms, 2)
+            print(f"{name + '_replan':26s} 1000^2  {ms:8.2f} ms  (after a change of ~300 cells "
+                  f"near the robot, 0.5 m further on; a full goal-rooted plan {full_ms:.2f} ms; "
+                  f"{repaired} of the replans repaired)")
     if args.json:
         print(json.dumps(out))
     return 0
+
+
+def replan_ms(cm: Costmap2D, make, repeat: int) -> tuple[float, float, int]:
+    """Median CPU ms of a ``reuse_search`` replan toward the same goal after a scan-sized change
+    (an obstacle blob of ~250 lethal cells appears 0.75-2 m from the robot, last time's blob is
+    gone) with the robot 0.5 m further along its path; also the median of full plans of the
+    same planner (fresh workspace) and how many replans were repairs."""
+    n = cm.size_x
+    start, goal = nearest_free(cm, 45, 45), nearest_free(cm, n - 45, n - 45)
+    base = cm.costs.copy()
+    planner = make(cm, {"reuse_search": True})
+    r = planner.make_plan(start, goal)
+    rng = np.random.default_rng(7)
+    times, full, repaired = [], [], 0
+    for i in range(repeat + 1):
+        d = np.r_[0.0, np.cumsum(np.hypot(*np.diff(r.path.poses[:, :2], axis=0).T))]
+        x, y = r.path.poses[np.searchsorted(d, 0.5), :2]
+        start = Pose2D(float(x), float(y), 0.0)
+        cx, cy = cm.world_to_map(start.x, start.y)
+        a, dist = rng.uniform(0, 2 * np.pi), rng.uniform(15, 40)
+        bx, by = int(cx + dist * np.cos(a)), int(cy + dist * np.sin(a))
+        ys, xs = np.mgrid[by - 9:by + 10, bx - 9:bx + 10]
+        blob = ((xs - bx) ** 2 + (ys - by) ** 2 < 81) & (xs > 0) & (ys > 0) & (xs < n - 1) \
+            & (ys < n - 1)
+        cm.costs[:] = base
+        cm.costs[ys[blob], xs[blob]] = 254
+        t0 = time.process_time()
+        r = planner.make_plan(start, goal)
+        if i:  # the first replan also compiles the repair kernels
+            times.append((time.process_time() - t0) * 1e3)
+            repaired += planner.last_repaired
+            fresh = make(cm, {"reuse_search": True})
+            t0 = time.process_time()
+            fresh.make_plan(start, goal)
+            full.append((time.process_time() - t0) * 1e3)
+    cm.costs[:] = base
+    return statistics.median(times), statistics.median(full), repaired
 
 
 if __name__ == "__main__":

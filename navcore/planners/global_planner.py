@@ -37,7 +37,8 @@ from navcore.planners.result import PlanReason, PlanResult
 from navcore.planners.traceback import STOP_NEAR_POINT, gradient_path, grid_path
 from navcore.planners.wavefront import (BAND_NEUTRALS, HEURISTIC_EUCLIDEAN,
                                         HEURISTIC_MANHATTAN, HEURISTIC_NONE, POT_HIGH, Workspace,
-                                        kernel_tables, run_wavefront)
+                                        descent_margin, kernel_tables, plan_field,
+                                        run_wavefront)
 from navcore.types import Path, Pose2D
 
 GLOBAL_PLANNER_PARAMS = (
@@ -58,6 +59,10 @@ GLOBAL_PLANNER_PARAMS = (
           "4 Backward, 5 Leftward, 6 Rightward", min=0, max=6),
     Param("orientation_window_size", 1, int, "poses either side used for Forward-type headings",
           min=1),
+    Param("reuse_search", False, bool, "with use_dijkstra: root the potential at the goal so "
+          "that a replan toward the same goal repairs the last field where costs changed "
+          "instead of searching afresh (navbt's; ROS roots it at the robot: paths differ "
+          "slightly)"),
     Param("outline_map", True, bool, "treat the map's outer border as lethal (the wavefront "
           "never enters the border either way: its 4-cell stencil needs all neighbours)"),
     Param("publish_potential", True, bool, "return the potential grid with each plan"),
@@ -122,6 +127,7 @@ class GlobalPlanner:
         self.params = Parameters(GLOBAL_PLANNER_PARAMS, params, where="GlobalPlanner")
         self._ws = Workspace()
         self.last_updates = 0
+        self.last_repaired = False  # whether the last plan repaired the previous field
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         """A path from ``start`` to ``goal`` (map frame), or the reason there is none."""
@@ -162,23 +168,16 @@ class GlobalPlanner:
             raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         sx, sy = s
-        k = int(sy) * nx + int(sx)
-        if p.old_navfn_behavior:
-            seeds, seed_pots = [k], [0.0]
-            pushes = [k + 1, k - 1, k - nx, k + nx]
-        else:
-            dx = np.floor((sx - int(sx)) * 100 + 0.5) / 100
-            dy = np.floor((sy - int(sy)) * 100 + 0.5) / 100
-            two_n = 2.0 * neutral
-            seeds = [k, k + 1, k + nx, k + nx + 1]
-            seed_pots = [two_n * dx * dy, two_n * (1 - dx) * dy, two_n * dx * (1 - dy),
-                         two_n * (1 - dx) * (1 - dy)]
-            pushes = [k + 2, k - 1, k + nx - 1, k + nx + 2, k - nx, k - nx + 1, k + 2 * nx,
-                      k + 2 * nx + 1]
-        target = int(g[1]) * nx + int(g[0])
-        seeds_a = np.array(seeds, np.int64)
-        pots_a = np.array(seed_pots, np.float32)
         band = BAND_NEUTRALS * neutral
+        if p.reuse_search and p.use_dijkstra and gc is not None \
+                and 0 < gc[0] < nx - 1 and 0 < gc[1] < ny - 1 \
+                and lut[costs[gc[1] * nx + gc[0]]] < lethal:
+            r = self._plan_from_goal(costs, tables, lut, s, g, start, goal)
+            if r is not None:
+                return r
+            # the robot cannot be reached from the goal: the robot-rooted search says why
+        seeds_a, pots_a, pushes_a = self._seeds(sx, sy)
+        target = int(g[1]) * nx + int(g[0])
         if p.use_dijkstra:
             hkind, hscale = HEURISTIC_NONE, 0.0
         elif p.use_quadratic:
@@ -189,8 +188,8 @@ class GlobalPlanner:
             # exact: every step costs at least neutral_cost, so this is consistent
             hkind, hscale = HEURISTIC_MANHATTAN, float(neutral)
         reached, self.last_updates, _ = run_wavefront(
-            ws, costs, tables, nx, ny, seeds_a, pots_a,
-            np.array(pushes, np.int64), target, float(lethal), float(band), 2 * nx * ny,
+            ws, costs, tables, nx, ny, seeds_a, pots_a, pushes_a, target, float(lethal),
+            float(band), 2 * nx * ny,
             p.use_quadratic, hkind, hscale)
         publish = p.publish_potential or p.visualize_potential
         potential = ws.pot.reshape(ny, nx) if publish else None
@@ -213,10 +212,71 @@ class GlobalPlanner:
                                    4 * nx * ny, float(lethal))
         if not ok or len(xy) == 0:
             return PlanResult.failure(PlanReason.NO_PATH, potential)
-        off = 0.0 if p.old_navfn_behavior else 0.5
-        pts = xy[::-1]
+        return self._to_result(xy[::-1], sx, sy, start, goal_pose, potential)
+
+    def _seeds(self, x: float, y: float) -> tuple:
+        """Seed cells, their potentials and the cells the wave starts from, for a wave from the
+        map point (x, y) (fractional cells): the 2x2 block around it, or its cell alone with
+        ``old_navfn_behavior``."""
+        nx = self.costmap.size_x
+        k = int(y) * nx + int(x)
+        if self.params.old_navfn_behavior:
+            seeds, seed_pots = [k], [0.0]
+            pushes = [k + 1, k - 1, k - nx, k + nx]
+        else:
+            dx = np.floor((x - int(x)) * 100 + 0.5) / 100
+            dy = np.floor((y - int(y)) * 100 + 0.5) / 100
+            two_n = 2.0 * self.params.neutral_cost
+            seeds = [k, k + 1, k + nx, k + nx + 1]
+            seed_pots = [two_n * dx * dy, two_n * (1 - dx) * dy, two_n * dx * (1 - dy),
+                         two_n * (1 - dx) * (1 - dy)]
+            pushes = [k + 2, k - 1, k + nx - 1, k + nx + 2, k - nx, k - nx + 1, k + 2 * nx,
+                      k + 2 * nx + 1]
+        return (np.array(seeds, np.int64), np.array(seed_pots, np.float32),
+                np.array(pushes, np.int64))
+
+    def _plan_from_goal(self, costs: np.ndarray, tables: tuple, lut: np.ndarray,
+                        s: tuple[float, float], g: tuple[float, float], start: Pose2D,
+                        goal: Pose2D) -> PlanResult | None:
+        """``reuse_search`` (Dijkstra only): the field seeded at the goal, final up to the robot
+        (repaired from the last one when only a few costs changed), the path descending from
+        the robot; ``clearEndpoint`` acts around the robot and is undone afterwards, so the
+        field stays reusable."""
+        cm, p, ws = self.costmap, self.params, self._ws
+        nx, ny = cm.size_x, cm.size_y
+        (sx, sy), (gx, gy) = s, g
+        lethal = p.lethal_cost
+        k = int(sy) * nx + int(sx)
+        _, self.last_updates, _, self.last_repaired = plan_field(
+            ws, costs, tables, nx, ny, *self._seeds(gx, gy), k, float(lethal),
+            float(BAND_NEUTRALS * p.neutral_cost), 2 * nx * ny, p.use_quadratic,
+            descent_margin(lut, cm.costs, (int(sx), int(sy)), lethal))
+        pot = ws.pot
+        if pot[k] >= POT_HIGH:
+            return None
+        block = np.array([(int(sy) + j) * nx + int(sx) + i for j in range(-2, 3)
+                          for i in range(-2, 3) if 0 <= int(sx) + i < nx and 0 <= int(sy) + j < ny])
+        saved = pot[block].copy()
         if not p.old_navfn_behavior:
-            # the descent began exactly at the goal, which is appended below; a start in the
+            self._clear_endpoint(costs, pot, (int(sx), int(sy)), nx, ny)
+        if p.use_grid_path:
+            ok, xy = grid_path(pot, nx, ny, sx, sy, gx, gy, 4 * nx * ny)
+        else:
+            ok, xy = gradient_path(pot, nx, ny, sx, sy, STOP_NEAR_POINT, gx, gy, 4 * nx * ny,
+                                   float(lethal))
+        pot[block] = saved
+        if not ok or len(xy) == 0:
+            return None
+        publish = p.publish_potential or p.visualize_potential
+        return self._to_result(xy, sx, sy, start, goal, pot.reshape(ny, nx) if publish else None)
+
+    def _to_result(self, pts: np.ndarray, sx: float, sy: float, start: Pose2D, goal_pose: Pose2D,
+                   potential: np.ndarray | None) -> PlanResult:
+        """World poses from the cell points of a path robot -> goal, ending with the goal."""
+        cm, p = self.costmap, self.params
+        off = 0.0 if p.old_navfn_behavior else 0.5
+        if not p.old_navfn_behavior:
+            # the path's last point is exactly the goal, which is appended below; a start in the
             # goal's own cell leaves nothing else, so the start itself leads
             pts = pts[:-1] if len(pts) > 1 else np.array([[sx, sy]])
         poses = np.zeros((len(pts) + 1, 3))

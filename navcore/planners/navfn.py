@@ -23,8 +23,8 @@ from navcore.params import Param, Parameters
 from navcore.planners.common import diagnose, finite_pose, search_tolerance
 from navcore.planners.result import PlanReason, PlanResult
 from navcore.planners.traceback import STOP_NEAR_NEUTRAL, gradient_path
-from navcore.planners.wavefront import (BAND_NEUTRALS, POT_HIGH, Workspace, kernel_tables,
-                                        run_wavefront)
+from navcore.planners.wavefront import (BAND_NEUTRALS, POT_HIGH, Workspace, descent_margin,
+                                        kernel_tables, plan_field, run_wavefront)
 from navcore.types import Path, Pose2D
 
 COST_NEUTRAL = 50
@@ -39,6 +39,9 @@ NAVFN_PARAMS = (
     Param("default_tolerance", 0.0, float, "m: accept the reachable point closest to the goal "
           "within this square half-side when the goal itself is not reachable", min=0.0),
     Param("visualize_potential", False, bool, "return the potential grid with each plan"),
+    Param("reuse_search", False, bool, "root the potential at the goal so that a replan toward "
+          "the same goal repairs the last field where costs changed instead of searching afresh "
+          "(navbt's; ROS roots it at the robot: paths differ slightly)"),
     Param("planner_window_x", 0.0, float, "m: declared by NavfnROS, unused there and here"),
     Param("planner_window_y", 0.0, float, "m: declared by NavfnROS, unused there and here"),
     Param("planner_costmap_publish_frequency", 0.0, float, "Hz: accepted for ROS files, unused"),
@@ -73,6 +76,7 @@ class NavFn:
         self.params = Parameters(NAVFN_PARAMS, params, where="NavfnROS")
         self._ws = Workspace()
         self.last_updates = 0  # cell updates of the last propagation (for benchmarks)
+        self.last_repaired = False  # whether the last plan repaired the previous field
 
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         """A path from ``start`` to ``goal`` (map frame), or the reason there is none."""
@@ -99,6 +103,12 @@ class NavFn:
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         k = sc[1] * nx + sc[0]
         target = gc[1] * nx + gc[0] if gc is not None else 0  # off-map goal: ROS aims at cell 0
+        if p.reuse_search and gc is not None and 0 < gc[0] < nx - 1 and 0 < gc[1] < ny - 1 \
+                and lut[costs[target]] < COST_OBS:
+            r = self._plan_from_goal(costs, tables, lut, sc, gc, goal)
+            if r is not None:
+                return r
+            # the robot cannot be reached from the goal: the robot-rooted search says why
         _, self.last_updates, _ = run_wavefront(
             ws, costs, tables, nx, ny, np.array([k], np.int64),
             np.array([0.0], np.float32), np.array([k + 1, k - 1, k - nx, k + nx], np.int64),
@@ -119,6 +129,34 @@ class NavFn:
         poses[:-1, 0] = cm.origin_x + xy[::-1, 0] * cm.resolution
         poses[:-1, 1] = cm.origin_y + xy[::-1, 1] * cm.resolution
         poses[-1] = (best[0], best[1], goal.theta)
+        return PlanResult(True, Path(poses), PlanReason.NONE, potential)
+
+    def _plan_from_goal(self, costs: np.ndarray, tables: tuple, lut: np.ndarray,
+                        sc: tuple[int, int], gc: tuple[int, int], goal: Pose2D
+                        ) -> PlanResult | None:
+        """``reuse_search``: the field seeded at the goal, final up to the robot (repaired from
+        the last one when only a few costs changed), the path descending from the robot."""
+        cm, ws = self.costmap, self._ws
+        nx, ny = cm.size_x, cm.size_y
+        g, k = gc[1] * nx + gc[0], sc[1] * nx + sc[0]
+        _, self.last_updates, _, self.last_repaired = plan_field(
+            ws, costs, tables, nx, ny, np.array([g], np.int64), np.array([0.0], np.float32),
+            np.array([g + 1, g - 1, g - nx, g + nx], np.int64), k, float(COST_OBS),
+            float(BAND_NEUTRALS * COST_NEUTRAL), 2 * nx * ny, True,
+            descent_margin(lut, cm.costs, sc, COST_OBS))
+        pot = ws.pot
+        if pot[k] >= POT_HIGH:
+            return None
+        ok, xy = gradient_path(pot, nx, ny, float(sc[0]), float(sc[1]), STOP_NEAR_NEUTRAL,
+                               float(gc[0]), float(gc[1]), max(4 * nx, nx * ny // 2),
+                               float(COST_OBS))
+        if not ok or len(xy) == 0:
+            return None
+        potential = pot.reshape(ny, nx) if self.params.visualize_potential else None
+        poses = np.zeros((len(xy) + 1, 3))
+        poses[:-1, 0] = cm.origin_x + xy[:, 0] * cm.resolution
+        poses[:-1, 1] = cm.origin_y + xy[:, 1] * cm.resolution
+        poses[-1] = (goal.x, goal.y, goal.theta)
         return PlanResult(True, Path(poses), PlanReason.NONE, potential)
 
     def potential_at(self, x: float, y: float) -> float:

@@ -38,6 +38,8 @@ what a push test and an update need), one compiled variant per (update, search) 
 tests in the loop), branch-free pushes (at the wave front their outcome is a coin flip), and
 buffers and gates reused from plan to plan. The measurements behind each choice, and what was
 tried without gain, are in docs/performance.md.
+
+``plan_field`` roots the field at the goal and repairs it on a replan (see there).
 """
 
 from __future__ import annotations
@@ -459,3 +461,182 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
     ws.field = None  # a robot-rooted field: nothing a repair could reuse
     return out[:3]
 
+
+
+# ---------------------------------------------------------------- replanning: repair, not redo
+#
+# A replan toward the same goal can reuse the last field when the field is rooted at the goal:
+# the robot is then only where the wave stops, and a cell's potential depends only on the costs
+# along its way down to the goal. A cost change invalidates the changed cells and, transitively,
+# each cell whose update read an invalidated cell: the update reads min(left, right) and
+# min(up, down), so m depends on a neighbour n only if n's potential is below m's and n was the
+# lower of m's pair along that axis. Those cells lose their potential; the wave restarts from
+# them, from the changed cells and from whatever the last run left queued (the LPA* idea on
+# navfn's bands). The plain update's result is then exactly the from-scratch one; the quadratic
+# update depends on the visiting order, so its repaired values differ slightly (tests bound it).
+
+
+@njit(cache=True)
+def sync_view(view: np.ndarray, costs: np.ndarray, free_cell: int, changed: np.ndarray,
+              cap: int) -> int:
+    """Bring ``view`` (the planner's copy of the flat costs) up to ``costs``, with ``free_cell``
+    reading free (navfn clears the robot's cell; here on the copy only). The cells that changed
+    go to ``changed``; returns their count, or -1 once more than ``cap`` changed (``view`` is
+    then partly updated: plan afresh)."""
+    ns = costs.shape[0]
+    end = ns - ns % 64
+    cw = costs[:end].view(np.uint64)
+    vw = view[:end].view(np.uint64)
+    fb = free_cell // 64
+    n = 0
+    for b in range(0, end // 8, 8):  # 8 words = 64 cells a block
+        diff = np.uint64(0)
+        for w in range(b, b + 8):
+            diff |= cw[w] ^ vw[w]
+        if diff == 0 and b // 8 != fb:
+            continue
+        for i in range(8 * b, 8 * b + 64):
+            want = 0 if i == free_cell else costs[i]
+            if view[i] != want:
+                if n >= cap:
+                    return -1
+                changed[n] = i
+                n += 1
+                view[i] = want
+    for i in range(end, ns):
+        want = 0 if i == free_cell else costs[i]
+        if view[i] != want:
+            if n >= cap:
+                return -1
+            changed[n] = i
+            n += 1
+            view[i] = want
+    return n
+
+
+@njit(cache=True)
+def invalidate(rec: np.ndarray, view: np.ndarray, lut_push: np.ndarray, nx: int, ny: int,
+               changed: np.ndarray, n_changed: int, lost: np.ndarray, old_pot: np.ndarray,
+               cap: int) -> int:
+    """Give the changed cells their new gate and take the potential (POT_HIGH) of every cell
+    that may depend on one of them (see above); ``lost`` lists those cells (``old_pot`` their
+    former potentials). Returns how many, or -1 once more than ``cap``."""
+    k = 0
+    for j in range(n_changed):
+        c = changed[j]
+        x = c % nx
+        y = c // nx
+        if x == 0 or y == 0 or x == nx - 1 or y == ny - 1:
+            rec[2 * c + GATE] = np.inf
+        else:
+            rec[2 * c + GATE] = lut_push[view[c]]
+        p = rec[2 * c + POT]
+        if p < POT_HIGH:
+            if k >= cap:
+                return -1
+            lost[k] = c
+            old_pot[k] = p
+            k += 1
+            rec[2 * c + POT] = POT_HIGH
+    i = 0
+    while i < k:
+        n = lost[i]
+        po = old_pot[i]
+        i += 1
+        for side in range(4):
+            # neighbour m and the other cell of m's pair along the same axis
+            if side == 0:
+                m, other = n - 1, n - 2
+            elif side == 1:
+                m, other = n + 1, n + 2
+            elif side == 2:
+                m, other = n - nx, n - 2 * nx
+            else:
+                m, other = n + nx, n + 2 * nx
+            pm = rec[2 * m + POT]
+            if pm >= POT_HIGH or not pm > po:  # the border is never reached: other is inside
+                continue
+            if po <= rec[2 * other + POT]:
+                if k >= cap:
+                    return -1
+                lost[k] = m
+                old_pot[k] = pm
+                k += 1
+                rec[2 * m + POT] = POT_HIGH
+    return k
+
+
+def plan_field(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int,
+               seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
+               target: int, threshold: float, increment: float, max_cycles: int,
+               quadratic: bool, stop_margin: float, reuse: bool = True,
+               max_changed: float = 0.02) -> tuple:
+    """A field rooted at the seeds (the goal), final below the potential of ``target`` (the
+    robot) plus ``stop_margin``, computed on the workspace's copy of ``costs`` in which the
+    target's cell reads free (``ws.gate_costs``; the potential ends in ``ws.pot``).
+
+    With ``reuse``, a field from the same seeds, tables and bands is repaired instead of
+    recomputed, unless more than ``max_changed`` of the cells changed. Returns ``(reached,
+    cell_updates, cycles, repaired)``.
+    """
+    lut_push = tables[0]
+    ns = nx * ny
+    key = (seed_cells.tobytes(), seed_pots.tobytes(), bool(quadratic), float(threshold),
+           float(increment), float(stop_margin))
+    same = ws.gate_lut is not None and np.array_equal(ws.gate_lut, lut_push)
+    if reuse and same and ws.field is not None and ws.field[:5] == key[:5]:
+        cap = max(64, int(max_changed * ns))
+        n = sync_view(ws.gate_costs, costs, target, ws.buf_a, cap)
+        changed = ws.buf_a[:max(n, 0)]
+        if n >= 0 and not np.isin(seed_cells, changed).any():
+            ws.gate_lut = None
+            k = invalidate(ws.rec, ws.gate_costs, lut_push, nx, ny, ws.buf_a, n, ws.buf_b,
+                           ws.old_pot, max(64, ns // 4))
+            if k >= 0:
+                push = np.concatenate((changed, ws.buf_b[:k], ws.pending)).astype(np.int64)
+                out = propagate(ws.gate_costs, tables, nx, ny, ws.rec, ws.buf_a, ws.buf_b,
+                                ws.buf_c, seed_cells[:0], seed_pots[:0], push, target,
+                                _repair_threshold(ws.pot, push, nx, ns, threshold) + increment,
+                                increment, max_cycles, quadratic, stop_margin=stop_margin)
+                ws.pending, ws.field, ws.gate_lut = out[3], key, lut_push.copy()
+                return out[0], out[1], out[2], True
+        ws.gate_lut = None  # the copy is partly synced, or gates were rewritten: start afresh
+    # afresh: the copy and the gates from the costs, then a full wave from the seeds
+    if same and ws.gate_lut is not None:
+        refresh_records(ws.rec, ws.gate_costs, costs, lut_push, nx, ny)
+    else:
+        reset_records(ws.rec, costs, lut_push, nx, ny)
+        ws.gate_costs[:] = costs
+    ws.gate_lut = None
+    if 0 <= target < ns and ws.gate_costs[target] != 0:
+        ws.gate_costs[target] = 0
+        tx, ty = target % nx, target // nx
+        if 0 < tx < nx - 1 and 0 < ty < ny - 1:
+            ws.rec[2 * target + GATE] = lut_push[0]
+    out = propagate(ws.gate_costs, tables, nx, ny, ws.rec, ws.buf_a, ws.buf_b, ws.buf_c,
+                    seed_cells, seed_pots, push_cells, target, threshold, increment, max_cycles,
+                    quadratic, stop_margin=stop_margin)
+    ws.pending, ws.field, ws.gate_lut = out[3], key, lut_push.copy()
+    return out[0], out[1], out[2], False
+
+
+def _repair_threshold(pot: np.ndarray, cells: np.ndarray, nx: int, ns: int,
+                      fallback: float) -> float:
+    """The lowest potential next to the cells a repair starts from: its first band's base."""
+    if len(cells) == 0:
+        return fallback
+    nb = np.concatenate((cells - 1, cells + 1, cells - nx, cells + nx))
+    v = pot[nb[(nb >= 0) & (nb < ns)]]
+    v = v[v < POT_HIGH]
+    return float(v.min()) if len(v) else fallback
+
+
+def descent_margin(lut: np.ndarray, costs2d: np.ndarray, cell: tuple[int, int],
+                   block: float) -> float:
+    """How far above the robot's potential a goal-rooted field must be final for the descent
+    from the robot: it reads cells up to three steps away, each step costing at most the
+    dearest passable cost in the 7x7 cells around it."""
+    x, y = cell
+    win = lut[costs2d[max(0, y - 3):y + 4, max(0, x - 3):x + 4]]
+    win = win[win < block]
+    return 3.0 * float(win.max()) if len(win) else 0.0
