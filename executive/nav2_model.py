@@ -38,7 +38,6 @@ NOT_PROVIDED: dict[str, str] = {
     "CancelFollowObject": "cancels FollowObject, which navbt does not have",
     "ComputeAndTrackRoute": "needs Nav2's route tracking server (operations on route edges)",
     "CancelComputeAndTrackRoute": "cancels ComputeAndTrackRoute, which navbt does not have",
-    "NavigateThroughPoses": "a BT node that calls another bt_navigator; navbt runs one tree",
     "ToggleCollisionMonitor": "needs Nav2's collision monitor server",
     "PauseResumeController": "needs pause/resume ROS services",
     "CheckStopStatus": "needs the controller server's stop-status service",

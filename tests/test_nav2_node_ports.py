@@ -641,3 +641,24 @@ def test_initial_pose_received_and_transform_available():
     assert tick(known) == S
     other = node("TransformAvailable", port_values={"child": "camera", "parent": "map"})
     assert tick(other) == F
+
+
+def test_navigate_through_poses_subtree():
+    """test/plugins/action/test_navigate_through_poses_action.cpp: the goals are passed in
+    order and the node succeeds at the last (here the subtree runs with scripted components)."""
+    w = World()
+    n = node("NavigateThroughPoses", world=w, replan_hz=1.0)
+    bb_set(n, "goals", [Pose2D(1.0, 0.0, 0.0), Pose2D(1.5, 1.0, 0.0)])
+    status = None
+    for _ in range(2000):
+        n.tick_once()
+        status = n.status
+        cmd = bb_get(n, "cmd_vel")
+        w.step(cmd if cmd is not None else Twist.zero())
+        if status is not R:
+            break
+    assert status == S
+    assert w.robot.pose().distance_to(Pose2D(1.5, 1.0, 0.0)) <= 0.1
+    plan = bb_get(n, "path")                  # planned through the first pose, in order
+    first = min(range(len(plan)), key=lambda i: plan.pose(i).distance_to(Pose2D(1.0, 0.0)))
+    assert plan.pose(first).distance_to(Pose2D(1.0, 0.0)) <= 0.05 and 0 < first < len(plan) - 1
