@@ -27,8 +27,9 @@ from navcore.safe_read import parse_yaml
 from executive.config_params import (BEHAVIOR_SERVER_NODES, MOVE_BASE_IN_TREE, MOVE_BASE_PARAMS,
                                      OWN_NAMESPACES, ROBOT_PARAMS)
 from executive.config_params import SAFETY_PARAMS  # noqa: F401 (executive.safety reads it here)
+from executive.param_files import Note, ParamsError, read_yaml
 from executive.ros_params import (COSTMAP_IGNORED, COSTMAP_LAYER_IGNORED, COSTMAP_NO_EFFECT,
-                                  LENIENCY, SOURCE_NO_EFFECT, Note, ParamsError, read_yaml)
+                                  LENIENCY, SOURCE_NO_EFFECT)
 
 
 class ConfigError(ValueError):

@@ -17,7 +17,8 @@ import os
 from typing import Any, Mapping
 
 from executive.config_params import BEHAVIOR_SERVER_PARAMS
-from executive.ros_params import Converted, Note, ParamsError, Path_, read_yaml
+from executive.param_files import Note, ParamsError, Path_, read_yaml
+from executive.ros_params import Converted
 
 _AMCL = {f"alpha{i}": f"odom_alpha{i}" for i in range(1, 6)}
 _AMCL.update({"z_hit": "laser_z_hit", "z_short": "laser_z_short", "z_max": "laser_z_max",

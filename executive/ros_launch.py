@@ -19,8 +19,8 @@ from pathlib import Path
 from typing import Any, Mapping
 from xml.parsers import expat
 
-from executive.ros_params import (Note, ParamTree, ParamsError, Path_, parse_yaml_lines,
-                                  read_yaml, split_name)
+from executive.param_files import Note, ParamsError, Path_, parse_yaml_lines, read_yaml
+from executive.ros_params import ParamTree, split_name
 from navcore.params import suggest
 from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_yaml, read_bytes, read_text
 

@@ -14,72 +14,9 @@ import os
 from dataclasses import dataclass, field
 from typing import Any, Iterator, Mapping
 
-import yaml
-
 from navcore.params import Leniency, suggest
-from navcore.safe_read import compose_yaml, node_value, read_text
 from executive.config_params import MOVE_BASE_PARAMS
-
-Path_ = tuple[str, ...]
-
-
-@dataclass(frozen=True)
-class Note:
-    """One finding about a config: ``level`` is "error", "warning", "note" or "ignored"."""
-
-    level: str
-    where: str
-    text: str
-
-    def __str__(self) -> str:
-        prefix = f"{self.where}: " if self.where else ""
-        return prefix + (self.text if self.level == "error" else f"{self.level}: {self.text}")
-
-
-class ParamsError(ValueError):
-    """A parameter or launch file cannot be read at all (the message names file and line)."""
-
-
-# --------------------------------------------------------------------------- YAML with lines
-def _key_lines(node: Any, path: Path_, lines: dict[Path_, int]) -> None:
-    if isinstance(node, yaml.MappingNode):
-        for k, v in node.value:
-            if isinstance(k, yaml.ScalarNode):
-                p = path + (str(k.value),)
-                lines.setdefault(p, k.start_mark.line + 1)
-                _key_lines(v, p, lines)
-
-
-def parse_yaml_lines(text: str, file: str, error: Any = None
-                     ) -> tuple[Any, dict[Path_, int]]:
-    """Safe-parse YAML text (navcore.safe_read's limits): the data and the 1-based line of every
-    mapping key, by key path."""
-    error = error or ParamsError
-    node = compose_yaml(text, file, error=error)
-    if node is None:
-        return None, {}
-    lines: dict[Path_, int] = {}
-    _key_lines(node, (), lines)
-    return node_value(node, file, error=error), lines
-
-
-def yaml_lines(text: str) -> dict[Path_, int]:
-    """1-based line of every mapping key of a YAML text (empty when it does not parse)."""
-    try:
-        return parse_yaml_lines(text, "<text>")[1]
-    except ParamsError:
-        return {}
-
-
-def read_yaml(path: str | os.PathLike, text: str | None = None, *, what: str = "parameter file",
-              error: Any = None) -> tuple[Any, dict[Path_, int]]:
-    """Read (bounded, strict UTF-8) and safe-parse a YAML file, or ``text`` read from it; errors
-    (``error``, default ParamsError) name file and line."""
-    file = os.fspath(path)
-    error = error or ParamsError
-    if text is None:
-        text = read_text(file, what=what, error=error)
-    return parse_yaml_lines(text, file, error)
+from executive.param_files import Note, ParamsError, Path_, read_yaml
 
 
 # --------------------------------------------------------------------------- the tree

@@ -9,7 +9,7 @@ import pytest
 
 from executive.config import ConfigSources, load_config_sources
 from executive.nav2_params import read_nav2_params
-from executive.ros_params import ParamsError
+from executive.param_files import ParamsError
 
 DISTROS = ("humble", "jazzy", "kilted", "main")
 

@@ -11,7 +11,7 @@ import yaml
 
 from executive.config import ConfigError, ConfigSources, load_config_sources
 from executive.ros_launch import read_launch
-from executive.ros_params import ParamsError
+from executive.param_files import ParamsError
 
 MODELS = ("burger", "waffle", "waffle_pi")
 

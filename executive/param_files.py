@@ -1,0 +1,68 @@
+"""Parameter files as read: YAML with the line of every key, the findings of a load (``Note``)
+and the error of a file that cannot be read at all (``ParamsError``).
+
+Shared by the navbt robot config (executive.config) and the ROS readers (ros_params, ros_launch,
+nav2_params), below all of them.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import yaml
+
+from navcore.safe_read import compose_yaml, node_value, read_text
+
+Path_ = tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Note:
+    """One finding about a config: ``level`` is "error", "warning", "note" or "ignored"."""
+
+    level: str
+    where: str
+    text: str
+
+    def __str__(self) -> str:
+        prefix = f"{self.where}: " if self.where else ""
+        return prefix + (self.text if self.level == "error" else f"{self.level}: {self.text}")
+
+
+class ParamsError(ValueError):
+    """A parameter or launch file cannot be read at all (the message names file and line)."""
+
+
+def _key_lines(node: Any, path: Path_, lines: dict[Path_, int]) -> None:
+    if isinstance(node, yaml.MappingNode):
+        for k, v in node.value:
+            if isinstance(k, yaml.ScalarNode):
+                p = path + (str(k.value),)
+                lines.setdefault(p, k.start_mark.line + 1)
+                _key_lines(v, p, lines)
+
+
+def parse_yaml_lines(text: str, file: str, error: Any = None
+                     ) -> tuple[Any, dict[Path_, int]]:
+    """Safe-parse YAML text (navcore.safe_read's limits): the data and the 1-based line of every
+    mapping key, by key path."""
+    error = error or ParamsError
+    node = compose_yaml(text, file, error=error)
+    if node is None:
+        return None, {}
+    lines: dict[Path_, int] = {}
+    _key_lines(node, (), lines)
+    return node_value(node, file, error=error), lines
+
+
+def read_yaml(path: str | os.PathLike, text: str | None = None, *, what: str = "parameter file",
+              error: Any = None) -> tuple[Any, dict[Path_, int]]:
+    """Read (bounded, strict UTF-8) and safe-parse a YAML file, or ``text`` read from it; errors
+    (``error``, default ParamsError) name file and line."""
+    file = os.fspath(path)
+    error = error or ParamsError
+    if text is None:
+        text = read_text(file, what=what, error=error)
+    return parse_yaml_lines(text, file, error)
