@@ -121,6 +121,7 @@ class _Context:
     used: set[str]
     node: LaunchNode | None = None
     failed: set[str] = field(default_factory=set)  # args whose value could not be evaluated
+    declared: dict[str, str] = field(default_factory=dict)  # arg name -> where it is declared
 
 
 class _Reader:
@@ -270,7 +271,9 @@ class _Reader:
             return
         if tag == "group":
             ns = self.attr(el, "ns", ctx)
-            sub = replace(ctx, ns=self.resolve(ns, ctx, where) if ns else ctx.ns)
+            # as in roslaunch, an arg declared inside the group is not declared after it
+            sub = replace(ctx, ns=self.resolve(ns, ctx, where) if ns else ctx.ns,
+                          declared=dict(ctx.declared))
             if el.attrs.get("clear_params", "false").lower() in ("true", "1") and ns:
                 self.tree.delete(sub.ns)
             self.children(el, sub)
@@ -294,6 +297,11 @@ class _Reader:
             raise _Skip
         if not self.enabled(el, ctx):
             return
+        if name in ctx.declared:   # roslaunch: "arg '...' has already been declared"
+            self.error(where, f"arg '{name}' is declared twice (first at "
+                              f"{ctx.declared[name]}); roslaunch refuses that")
+            raise _Skip
+        ctx.declared[name] = where
         if "value" in el.attrs and "default" in el.attrs:
             self.error(where, f"<arg name=\"{name}\">: give value or default, not both")
             raise _Skip

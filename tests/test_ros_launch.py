@@ -175,6 +175,10 @@ def test_roslaunch_errors_name_file_and_line(tmp_path):
           <param name="n" value="abc" type="int"/>
           <group if="maybe"><param name="q" value="1"/></group>
           <rosparam file="missing.yaml"/>
+          <arg name="twice" default="1"/>
+          <arg name="twice" default="2"/>
+          <group><arg name="inner" default="1"/></group>
+          <arg name="inner" default="2"/>
         </launch>
         """})
     f = tmp_path / "bad.launch"
@@ -188,6 +192,9 @@ def test_roslaunch_errors_name_file_and_line(tmp_path):
     assert any(e.startswith(f"{f}:6: <group if=...>: 'maybe' is not a boolean") for e in errors)
     assert f"{f}:7: <rosparam file=...>: missing.yaml: cannot read rosparam file: not found" \
         in errors
+    assert f"{f}:9: arg 'twice' is declared twice (first at {f}:8); roslaunch refuses that" \
+        in errors
+    assert not any("'inner'" in e for e in errors)   # a group's args end with the group
     assert any("arg 'nedd' is given but" in e and "(did you mean 'need'?)" in e for e in errors)
     (tmp_path / "broken.launch").write_text("<launch>\n  <param name='a'\n</launch>\n")
     with pytest.raises(ParamsError, match=r"broken.launch:3: not valid XML"):
