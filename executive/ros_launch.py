@@ -214,6 +214,10 @@ class _Reader:
     def enabled(self, el: _Elem, ctx: _Context) -> bool:
         """``if`` / ``unless`` as roslaunch reads them ("true"/"1", "false"/"0")."""
         where = f"{ctx.file}:{el.line}"
+        if "if" in el.attrs and "unless" in el.attrs:
+            self.error(where, f"<{el.tag}>: give 'if' or 'unless', not both (roslaunch refuses "
+                              "that)")
+            raise _Skip
         for key, want in (("if", True), ("unless", False)):
             if key in el.attrs:
                 value = self.subst(el.attrs[key], ctx, where).strip().lower()
