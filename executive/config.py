@@ -209,7 +209,7 @@ class _Report:
         return self.source
 
     def add(self, level: str, path: tuple, text: str) -> None:
-        self.notes.append(Note(level, self.where(path), text))
+        self.notes.append(Note(level, self.where(path), text, path))
 
     def errors(self) -> list[Note]:
         return [n for n in self.notes if n.level == "error"]

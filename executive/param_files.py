@@ -25,6 +25,9 @@ class Note:
     level: str
     where: str
     text: str
+    # the key path in the config document (("DWAPlannerROS", "sim_time")) when the finding is
+    # about one value: callers match findings to keys by it, not by their text
+    path: tuple = ()
 
     def __str__(self) -> str:
         prefix = f"{self.where}: " if self.where else ""

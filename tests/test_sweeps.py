@@ -377,3 +377,17 @@ def test_clearance_and_turning_of_known_paths():
 def test_example_sweep_files_check(path):
     spec = load_sweep(path)
     assert spec.tasks() and (spec.points or spec.search)
+
+
+def test_only_a_warning_about_the_points_own_key_refuses_it(tmp_path, catalogue):
+    """The base config's warning about vtheta_samples (a misspelling of vth_samples) says
+    nothing about a point that sets vth_samples; a point setting vtheta_samples is refused."""
+    from executive.scenario import load_scenario
+    from executive.sweeps.apply import apply_point
+    base = tmp_path / "robot.yaml"
+    base.write_text("DWAPlannerROS: {vtheta_samples: 20}\n", encoding="utf-8")
+    sc = load_scenario(catalogue / "straight.yaml")
+    s = apply_point(sc, {"DWAPlannerROS.vth_samples": 12}, str(base))
+    assert s.params["DWAPlannerROS"]["vth_samples"] == 12
+    with pytest.raises(ApplyError, match="'DWAPlannerROS.vtheta_samples': .*misspelling"):
+        apply_point(sc, {"DWAPlannerROS.vtheta_samples": 12}, str(base))

@@ -79,12 +79,12 @@ def _refuse_adjusted(config: Any, params: Mapping[str, Any]) -> None:
     """A point's value that the loader would clamp or rename (ROS leniency, with a warning) is an
     error in a sweep: the run would not test the value the sweep file names."""
     for note in getattr(config, "report", []):
-        if getattr(note, "level", "") != "warning":
+        if getattr(note, "level", "") != "warning" or not getattr(note, "path", ()):
             continue
-        text = str(note)
         for key in params:
             ns, _, name = key.partition(".")
-            if f"{ns}:" in text and f"'{name.split('.')[-1]}'" in text:
+            if note.path[0] == ns and note.path[-1] == name.split(".")[-1]:
+                text = str(note)
                 raise ApplyError(f"'{key}': {text.partition('warning: ')[2] or text}")
 
 
