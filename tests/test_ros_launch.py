@@ -195,8 +195,9 @@ def test_roslaunch_errors_name_file_and_line(tmp_path):
         in errors
     assert f"{f}:9: arg 'twice' is declared twice (first at {f}:8); roslaunch refuses that" \
         in errors
-    assert not any("'inner'" in e for e in errors)
-    assert f"{f}:12: <param>: give 'if' or 'unless', not both (roslaunch refuses that)" in errors   # a group's args end with the group
+    assert not any("'inner'" in e for e in errors)   # a group's args end with the group
+    assert f"{f}:12: <param>: give 'if' or 'unless', not both (roslaunch refuses that)" \
+        in errors
     assert any("arg 'nedd' is given but" in e and "(did you mean 'need'?)" in e for e in errors)
     (tmp_path / "broken.launch").write_text("<launch>\n  <param name='a'\n</launch>\n")
     with pytest.raises(ParamsError, match=r"broken.launch:3: not valid XML"):
