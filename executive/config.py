@@ -10,14 +10,14 @@ once, each naming file:line, namespace and parameter, before any robot moves. Th
 owned here are ``robot`` (body and devices), ``move_base``, ``safety`` and ``behavior_server``;
 the others come from the component that declares them (found lazily, see
 ``COMPONENT_NAMESPACES``). The costmaps' footprint is the robot's unless ``robot`` gives one.
+The tables of the owned namespaces are in executive.config_params; the costmap namespaces are
+checked by executive.config_costmaps.
 """
 from __future__ import annotations
 
 import importlib
-import importlib.util
 import math
 import os
-import re
 from dataclasses import dataclass, field
 from pathlib import Path as FsPath
 from typing import Any, Callable, Iterable, Mapping
@@ -27,9 +27,9 @@ from navcore.safe_read import parse_yaml
 from executive.config_params import (BEHAVIOR_SERVER_NODES, MOVE_BASE_IN_TREE, MOVE_BASE_PARAMS,
                                      OWN_NAMESPACES, ROBOT_PARAMS)
 from executive.config_params import SAFETY_PARAMS  # noqa: F401 (executive.safety reads it here)
-from executive.param_files import Note, ParamsError, read_yaml
-from executive.ros_params import (COSTMAP_IGNORED, COSTMAP_LAYER_IGNORED, COSTMAP_NO_EFFECT,
-                                  LENIENCY, SOURCE_NO_EFFECT)
+from executive.config_costmaps import ERROR_PATH, check_costmap, deep_copy
+from executive.param_files import Findings, Note, ParamsError, read_yaml
+from executive.ros_params import LENIENCY
 
 
 class ConfigError(ValueError):
@@ -48,7 +48,8 @@ DEFAULT_CONFIG = FsPath(__file__).resolve().parent / "data" / "robot.yaml"
 # executive does not import every component just to read a file, and so a component that is not
 # installed only matters when its namespace is used.
 COMPONENT_NAMESPACES: dict[str, tuple[tuple[str, str], ...]] = {
-    # costmaps carry nested layer namespaces: checked by building one (see _check_costmap)
+    # costmaps carry nested layer namespaces: checked by building one
+    # (config_costmaps.check_costmap)
     "global_costmap": (),
     "local_costmap": (),
     "NavfnROS": (("navcore.planners.navfn", "NAVFN_PARAMS"),),
@@ -194,33 +195,7 @@ def footprint_list(value: Any) -> Any:
     return value
 
 
-class _Report:
-    """Findings of one load: errors name ``file:line`` of the value when it is known."""
-
-    def __init__(self, source: str, origins: Mapping[tuple, str], notes: list[Note]) -> None:
-        self.source = source
-        self.origins = dict(origins)
-        self.notes = notes
-
-    def where(self, path: tuple) -> str:
-        for n in range(len(path), 0, -1):
-            if path[:n] in self.origins:
-                return self.origins[path[:n]]
-        return self.source
-
-    def add(self, level: str, path: tuple, text: str) -> None:
-        self.notes.append(Note(level, self.where(path), text, path))
-
-    def errors(self) -> list[Note]:
-        return [n for n in self.notes if n.level == "error"]
-
-
-_ERROR_PATH = re.compile(r"^(?:.*: )?([\w./-]+): (?:unknown parameter|parameter) '([^']+)'")
-_UNLISTED_SOURCE = re.compile(r"^([\w/]+): namespace '([^']+)' is not listed in "
-                              r"observation_sources")
-
-
-def _checked(ns: str, specs: tuple[Param, ...], body: Mapping[str, Any], report: _Report,
+def _checked(ns: str, specs: tuple[Param, ...], body: Mapping[str, Any], report: Findings,
              ignore: Iterable[str] = STRUCTURAL_KEYS) -> Parameters:
     """Parameters of ``specs`` from ``body``; every bad key is reported (not only the first)
     and left at its default."""
@@ -243,7 +218,7 @@ def _checked(ns: str, specs: tuple[Param, ...], body: Mapping[str, Any], report:
     return Parameters(specs, good, where=f"{report.source}: {ns}", ignore=ignore)
 
 
-def _lenient(ns: str, body: dict[str, Any], report: _Report) -> dict[str, Any]:
+def _lenient(ns: str, body: dict[str, Any], report: Findings) -> dict[str, Any]:
     """``body`` with ROS's own leniency for ``ns`` applied (renames, clamps, ignored keys). A
     clamp that would still leave the value unacceptable here is not applied: the error then
     names the value the user wrote."""
@@ -265,180 +240,6 @@ def _lenient(ns: str, body: dict[str, Any], report: _Report) -> dict[str, Any]:
     return out
 
 
-def _costmap_body(body: dict[str, Any], ns: str, report: _Report) -> dict[str, Any]:
-    """The costmap namespace without what ROS accepts there but navbt has no use for: keys of
-    COSTMAP_IGNORED, layer namespaces that 'plugins' does not list, layer keys ROS ignores."""
-    out = dict(body)
-    plugins = out.get("plugins")
-    if isinstance(plugins, (list, tuple)):
-        names = {str(p.get("name", "")) if isinstance(p, Mapping) else str(p) for p in plugins}
-        for key, value in body.items():
-            if key in COSTMAP_IGNORED:
-                if key in ("static_map", "map_type"):
-                    report.add("ignored", (ns, key), f"{ns}: '{key}' has no effect when "
-                               "'plugins' is given (as in costmap_2d)")
-                else:
-                    report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
-                out.pop(key)
-            elif isinstance(value, Mapping) and key not in names and key != "footprint":
-                report.add("note", (ns, key), f"{ns}: layer namespace '{key}' is not in "
-                           f"'plugins' ({', '.join(sorted(names))}), so it is not used (ROS "
-                           "ignores it too)")
-                out.pop(key)
-        for name in names:
-            layer = out.get(name)
-            if isinstance(layer, Mapping):
-                layer = dict(layer)
-                for key in [k for k in layer if k in COSTMAP_LAYER_IGNORED]:
-                    report.add("ignored", (ns, name, key), f"{ns}/{name}: '{key}': "
-                               f"{COSTMAP_LAYER_IGNORED[key]}")
-                    layer.pop(key)
-                out[name] = layer
-    else:  # pre-Hydro layout: the costmap moves the layer keys itself; these it never read
-        for key in ("inscribed_radius", "circumscribed_radius"):
-            if key in out:
-                report.add("ignored", (ns, key), f"{ns}: '{key}': {COSTMAP_IGNORED[key]}")
-                out.pop(key)
-        # a layer's keys when the costmap has no such layer (static_map false, no voxel type):
-        # costmap_2d's conversion does not move them, nothing reads them
-        unused = []
-        if not out.get("static_map", False):
-            unused += [k for k in ("map_topic", "unknown_cost_value", "lethal_cost_threshold")
-                       if k in out]
-        if out.get("map_type", "costmap") != "voxel":
-            unused += [k for k in ("origin_z", "z_resolution", "z_voxels", "mark_threshold",
-                                   "unknown_threshold", "publish_voxel_map") if k in out]
-        for key in unused:
-            out.pop(key)
-        if unused:
-            report.add("ignored", (ns, unused[0]), f"{ns}: {', '.join(unused)}: keys of a layer "
-                       "this costmap does not have (static_map / map_type), unused as in "
-                       "costmap_2d")
-    _note_no_effect(out, ns, report)
-    return out
-
-
-def _note_no_effect(body: Mapping[str, Any], ns: str, report: _Report) -> None:
-    """One "ignored" note listing the frame, topic and publishing keys of a costmap (and of its
-    observation sources) that are accepted but change nothing here."""
-    paths = [(k,) for k in body if k in COSTMAP_NO_EFFECT]
-    for layer, lbody in body.items():
-        if isinstance(lbody, Mapping):
-            paths += [(layer,) + p for p in _source_keys_no_effect(lbody)]
-    paths += _source_keys_no_effect(body)   # pre-Hydro: sources at the top level
-    if paths:
-        report.add("ignored", (ns,) + paths[0], f"{ns}: frames, topics and publishing have no "
-                   "effect here (components are wired directly, in one frame): "
-                   + ", ".join("/".join(map(str, p)) for p in paths))
-
-
-def _source_keys_no_effect(holder: Mapping[str, Any]) -> list[tuple[str, str]]:
-    """(source, key) of each frame or topic key of the observation sources ``holder`` lists."""
-    sources = holder.get("observation_sources")
-    out: list[tuple[str, str]] = []
-    for src in sources.split() if isinstance(sources, str) else []:
-        sbody = holder.get(src)
-        if isinstance(sbody, Mapping):
-            out += [(src, k) for k in sbody if k in SOURCE_NO_EFFECT]
-    return out
-
-
-def _drop(body: dict[str, Any], path: tuple) -> bool:
-    d: Any = body
-    for part in path[:-1]:
-        if not isinstance(d, dict) or part not in d:
-            return False
-        d = d[part]
-    if isinstance(d, dict) and path[-1] in d:
-        d.pop(path[-1])
-        return True
-    return False
-
-
-def _deep_copy(body: Any) -> Any:
-    if isinstance(body, Mapping):
-        return {k: _deep_copy(v) for k, v in body.items()}
-    return body
-
-
-def _check_costmap(body: dict[str, Any], ns: str, footprint: list, radius: float,
-                   report: _Report) -> dict[str, Any]:
-    """Build the costmap once on a tiny map: every layer validates its own namespace. Each
-    error is reported and its key left out for another try, so that all of them are listed.
-    Returns the namespace to build the real costmap from."""
-    body = _costmap_body(body, ns, report)
-    if importlib.util.find_spec("navcore.costmap.layered") is None:
-        return body  # the costmap component is not installed: nothing to check against
-    if not _costmap_size_ok(body, ns, report):
-        return body  # building it to check it would take the memory it is refused for
-    from navcore.maps import OccupancyGrid
-    import numpy as np
-    trial = _deep_copy(body)
-    if "footprint" not in trial and "robot_radius" not in trial:
-        if footprint:
-            trial["footprint"] = footprint
-        else:
-            trial["robot_radius"] = radius
-    for _ in range(50):
-        try:
-            cm = make_costmap(trial, OccupancyGrid(np.zeros((4, 4)), 0.05), ns)
-        except (ParameterError, ValueError, KeyError) as e:
-            text = str(e)
-            unlisted = _UNLISTED_SOURCE.match(text)
-            if unlisted:
-                parts = tuple(unlisted.group(1).split("/")) + (unlisted.group(2),)
-                report.add("note", parts, f"{text} (ROS ignores it too)")
-                _drop(trial, parts[1:])
-                _drop(body, parts[1:])
-                continue
-            m = _ERROR_PATH.match(text)
-            parts = (tuple(m.group(1).split(".")[0].split("/")) + (m.group(2),)) if m else (ns,)
-            report.add("error", parts, text)
-            if not m or parts[0] != ns or not _drop(trial, parts[1:]):
-                break
-            continue
-        for w in getattr(cm, "warnings", []):
-            report.add("ignored", (ns,), w)
-        break
-    return body
-
-
-def _costmap_size_ok(body: Mapping[str, Any], ns: str, report: _Report) -> bool:
-    """Refuse (by arithmetic, before anything is allocated) a costmap of more cells than a map
-    may have; a static layer's map is bounded when it is read."""
-    from navcore.maps import MAX_MAP_CELLS
-    from navcore.costmap.layered import COSTMAP_PARAMS
-    defaults = {p.name: p.default for p in COSTMAP_PARAMS}
-    dims = []
-    for key in ("width", "height", "resolution"):
-        v = body.get(key, defaults[key])
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-                or v < 0:
-            return True  # a malformed value: the build below names it
-        dims.append(float(v))
-    width, height, res = dims
-    if res <= 0:
-        return True
-    cells = math.ceil(width / res) * math.ceil(height / res)
-    if cells > MAX_MAP_CELLS:
-        key = "width" if "width" in body else "height" if "height" in body else "resolution"
-        report.add("error", (ns, key), f"{ns}: {width:g} m x {height:g} m at {res:g} m is "
-                   f"{cells:.4g} cells, more than the limit of {MAX_MAP_CELLS}")
-        return False
-    return True
-
-
-def make_costmap(params: dict[str, Any], grid: Any, name: str, clock: Any = None) -> Any:
-    """A LayeredCostmap from a ROS namespace; the map goes to it only if it has a static layer."""
-    from navcore.costmap.layered import LayeredCostmap
-    try:
-        return LayeredCostmap.from_params(params, static_map=None, name=name, clock=clock)
-    except ParameterError as e:
-        if "needs a map" not in str(e):
-            raise
-    return LayeredCostmap.from_params(params, static_map=grid, name=name, clock=clock)
-
-
 def _footprint_of(body: Mapping[str, Any]) -> tuple[list, float] | None:
     """(polygon, radius) a costmap namespace declares, or None when it declares neither."""
     fp = footprint_list(body.get("footprint")) if "footprint" in body else None
@@ -450,7 +251,7 @@ def _footprint_of(body: Mapping[str, Any]) -> tuple[list, float] | None:
     return None
 
 
-def _resolve_footprint(doc: Mapping[str, Any], robot: dict[str, Any], report: _Report) -> None:
+def _resolve_footprint(doc: Mapping[str, Any], robot: dict[str, Any], report: Findings) -> None:
     """One footprint: robot.footprint / robot_radius when given, else the local costmap's, else
     the global costmap's (ROS puts it there), so the simulated body, the costmaps and the
     recoveries all use the same outline."""
@@ -493,7 +294,7 @@ def _misplaced(key: str, known: Iterable[str]) -> str:
     return suggest(key, known)
 
 
-def _note_move_base_in_tree(body: Mapping[str, Any], report: _Report) -> None:
+def _note_move_base_in_tree(body: Mapping[str, Any], report: Findings) -> None:
     """move_base parameters that the tree decides here: a value other than move_base's default
     (which trees/move_base.yaml already has) is listed as ignored, saying where to set it."""
     defaults = {p.name: p.default for p in MOVE_BASE_PARAMS}
@@ -507,7 +308,7 @@ def _note_move_base_in_tree(body: Mapping[str, Any], report: _Report) -> None:
                        f"move_base's default {defaults[key]!r})")
 
 
-def _note_safety_clips(values: Mapping[str, Parameters], report: _Report) -> None:
+def _note_safety_clips(values: Mapping[str, Parameters], report: Findings) -> None:
     """A note for each local planner limit the safety gate's hard limit is tighter than (the
     gate clips such commands; ROS has no gate, so a ROS file does not say)."""
     safety = values.get("safety")
@@ -531,7 +332,7 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
 
     ``origins`` maps key paths (``("DWAPlannerROS", "vy_samples")``) to ``file:line``;
     ``notes`` are findings from reading the sources, kept in the config's ``report``."""
-    report = _Report(source, origins or {}, list(notes or []))
+    report = Findings(source, origins or {}, list(notes or []))
     if doc is None:
         doc = {}
     if not isinstance(doc, Mapping):
@@ -614,12 +415,12 @@ def config_from_mapping(doc: Mapping[str, Any], source: str = "<config>",
         try:
             robot_config(sim_values)
         except (ParameterError, ValueError) as e:
-            m = _ERROR_PATH.match(str(e))
+            m = ERROR_PATH.match(str(e))
             path = tuple(m.group(1).split(".")[1:]) + (m.group(2),) if m else ()
             report.add("error", (SIM_NAMESPACE,) + path, str(e))
     for ns in ("global_costmap", "local_costmap"):
         if ns in raw:
-            raw[ns] = _check_costmap(raw[ns], ns, robot.footprint, robot.robot_radius, report)
+            raw[ns] = check_costmap(raw[ns], ns, robot.footprint, robot.robot_radius, report)
     _note_safety_clips(values, report)
     amcl = values.get("amcl")
     if amcl is not None and amcl.min_particles > amcl.max_particles:
@@ -689,7 +490,7 @@ def _merge(doc: dict[str, Any], origins: dict[tuple, str], add: Mapping[str, Any
         if isinstance(v, Mapping) and isinstance(doc.get(k), dict):
             _merge(doc[k], origins, v, add_origins, p)
         else:
-            doc[k] = _deep_copy(v)
+            doc[k] = deep_copy(v)
             for op in [op for op in origins if op[:len(p)] == p]:
                 del origins[op]
         for op, o in add_origins.items():

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Mapping
 
 import yaml
 
@@ -32,6 +32,28 @@ class Note:
     def __str__(self) -> str:
         prefix = f"{self.where}: " if self.where else ""
         return prefix + (self.text if self.level == "error" else f"{self.level}: {self.text}")
+
+
+class Findings:
+    """The findings of one load, as Notes: each names the ``file:line`` of its value when
+    ``origins`` (key path -> ``file:line``) knows it, else ``source``."""
+
+    def __init__(self, source: str, origins: Mapping[tuple, str], notes: list[Note]) -> None:
+        self.source = source
+        self.origins = dict(origins)
+        self.notes = notes
+
+    def where(self, path: tuple) -> str:
+        for n in range(len(path), 0, -1):
+            if path[:n] in self.origins:
+                return self.origins[path[:n]]
+        return self.source
+
+    def add(self, level: str, path: tuple, text: str) -> None:
+        self.notes.append(Note(level, self.where(path), text, path))
+
+    def errors(self) -> list[Note]:
+        return [n for n in self.notes if n.level == "error"]
 
 
 class ParamsError(ValueError):

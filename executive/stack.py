@@ -18,7 +18,8 @@ from navcore.maps import OccupancyGrid
 from navcore.params import Parameters
 from navcore.types import Pose2D
 
-from executive.config import RobotConfig, make_costmap
+from executive.config import RobotConfig
+from executive.config_costmaps import make_costmap
 from executive.errors import WiringError
 
 

@@ -24,7 +24,7 @@ def _clearance(grid) -> np.ndarray:
 
 def pick_start_goal(grid, config):
     """The most open free cell, and a reachable open cell 2..5 m from it in open space."""
-    from executive.config import make_costmap
+    from executive.config_costmaps import make_costmap
     from navcore.planners import make_planner
     from navcore.types import Pose2D
     d = _clearance(grid)
