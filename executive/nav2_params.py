@@ -17,7 +17,7 @@ import os
 from typing import Any, Mapping
 
 from executive.config_params import BEHAVIOR_SERVER_PARAMS
-from executive.param_files import Note, ParamsError, Path_, read_yaml
+from executive.param_files import Note, ParamsError, Path_, nearest, read_yaml
 from executive.ros_params import Converted
 
 _AMCL = {f"alpha{i}": f"odom_alpha{i}" for i in range(1, 6)}
@@ -107,10 +107,8 @@ class _Mapper:
         self.ignored: dict[str, list[str]] = {}
 
     def where(self, path: Path_) -> str:
-        for n in range(len(path), 0, -1):
-            if path[:n] in self.lines:
-                return f"{self.file}:{self.lines[path[:n]]}"
-        return self.file
+        line = nearest(self.lines, path)
+        return self.file if line is None else f"{self.file}:{line}"
 
     def put(self, dst: Path_, value: Any, src: Path_) -> None:
         self.out.put(dst, value, self.where(src))

@@ -34,6 +34,15 @@ class Note:
         return prefix + (self.text if self.level == "error" else f"{self.level}: {self.text}")
 
 
+def nearest(by_path: Mapping[tuple, Any], path: tuple) -> Any:
+    """The entry of ``path`` or of its nearest parent in ``by_path`` (None when neither is):
+    where a value came from when only its namespace is recorded."""
+    for n in range(len(path), 0, -1):
+        if path[:n] in by_path:
+            return by_path[path[:n]]
+    return None
+
+
 class Findings:
     """The findings of one load, as Notes: each names the ``file:line`` of its value when
     ``origins`` (key path -> ``file:line``) knows it, else ``source``."""
@@ -44,10 +53,8 @@ class Findings:
         self.notes = notes
 
     def where(self, path: tuple) -> str:
-        for n in range(len(path), 0, -1):
-            if path[:n] in self.origins:
-                return self.origins[path[:n]]
-        return self.source
+        found = nearest(self.origins, path)
+        return self.source if found is None else found
 
     def add(self, level: str, path: tuple, text: str) -> None:
         self.notes.append(Note(level, self.where(path), text, path))

@@ -16,7 +16,7 @@ from typing import Any, Iterator, Mapping
 
 from navcore.params import Leniency, suggest
 from executive.config_params import MOVE_BASE_PARAMS
-from executive.param_files import Note, ParamsError, Path_, read_yaml
+from executive.param_files import Note, ParamsError, Path_, nearest, read_yaml
 
 
 # --------------------------------------------------------------------------- the tree
@@ -93,10 +93,8 @@ class ParamTree:
 
     def origin(self, path: Path_) -> str:
         """Where the value at ``path`` (or its nearest recorded parent) came from."""
-        for n in range(len(path), 0, -1):
-            if path[:n] in self.origins:
-                return self.origins[path[:n]]
-        return ""
+        found = nearest(self.origins, path)
+        return "" if found is None else found
 
     def delete(self, path: Path_) -> None:
         parent = self.get(path[:-1]) if path else None
