@@ -149,12 +149,14 @@ class RobotConfig:
 
     def port_defaults(self) -> dict[str, dict[str, Any]]:
         """Node type -> {port: value} for ports the tree leaves unset: the ``behavior_server``
-        values given (Nav2's server parameters are these nodes' ports here)."""
+        values given (Nav2's server parameters are these nodes' ports here). Plus, under
+        "Type/name" keys, the ``move_base`` values that differ from move_base's defaults for the
+        nodes trees/move_base.yaml names after them (move_base_port_values)."""
+        out: dict[str, dict[str, Any]] = move_base_port_values(self.move_base)
         given = self.namespaces.get("behavior_server") or {}
         if not given:
-            return {}
+            return out
         from behaviors.registry import node_classes
-        out: dict[str, dict[str, Any]] = {}
         for name, cls in node_classes().items():
             if name in BEHAVIOR_SERVER_NODES:
                 ports = cls.input_ports()
@@ -168,6 +170,37 @@ class RobotConfig:
         out = {"robot": self.robot, "move_base": self.move_base, "safety": self.safety}
         out.update(self.parameters)
         return out
+
+
+def move_base_port_values(mb: Parameters) -> dict[str, dict[str, Any]]:
+    """"Type/name" -> {port: value} for the move_base parameters set to other than move_base's
+    defaults, in the units of the ports of the nodes trees/move_base.yaml names after them; the
+    tree loader gives them to that node even over the tree's literal (which is move_base's
+    default), so the move_base namespace drives the tree as it drives move_base."""
+    changed = {p.name for p in mb.specs() if getattr(mb, p.name) != p.default}
+    table: list[tuple[str, str, str, Any]] = [
+        ("controller_patience", "FollowPath/ControllerPatience", "failure_tolerance",
+         float(mb.controller_patience)),
+        ("planner_patience", "Timeout/PlannerPatience", "msec",
+         int(round(mb.planner_patience * 1000.0))),
+        # move_base plans once and retries max_planning_retries more times
+        ("max_planning_retries", "RetryUntilSuccessful/MaxPlanningRetries", "num_attempts",
+         -1 if mb.max_planning_retries < 0 else int(mb.max_planning_retries) + 1),
+        ("oscillation_timeout", "IsOscillating/OscillationCheck", "oscillation_timeout",
+         float(mb.oscillation_timeout)),
+        ("oscillation_distance", "IsOscillating/OscillationCheck", "oscillation_distance",
+         float(mb.oscillation_distance)),
+        ("conservative_reset_dist", "ClearCostmapExceptRegion/conservative_reset",
+         "reset_distance", float(mb.conservative_reset_dist)),
+        # without recovery behaviours move_base aborts at the first failure
+        ("recovery_behavior_enabled", "RecoveryNode/MoveBase", "number_of_retries",
+         4 if mb.recovery_behavior_enabled else 0),
+    ]
+    out: dict[str, dict[str, Any]] = {}
+    for param, key, port, value in table:
+        if param in changed:
+            out.setdefault(key, {})[port] = value
+    return out
 
 
 def _check_footprint(fp: list, where: str) -> str | None:

@@ -167,7 +167,8 @@ class Builder:
     classes: dict[str, type[NavNode]] = field(default_factory=node_classes)
     distro: str | None = None  # the Nav2 distribution whose semantics apply; None: navbt's
     # node type -> {port: value} for ports a node leaves unset (the robot config's
-    # behavior_server values), instead of the ports' declared defaults
+    # behavior_server values), instead of the ports' declared defaults; "Type/name" -> {port:
+    # value} for one named node, over its literals (the move_base namespace's values)
     port_defaults: dict[str, dict[str, Any]] = field(default_factory=dict)
     errors: list[TreeError] = field(default_factory=list)
     ignored: list[str] = field(default_factory=list)
@@ -251,6 +252,10 @@ class Builder:
         refs, literals = self._ports(spec, cls, scope)
         for port, value in self.port_defaults.get(spec.type, {}).items():
             if port not in refs and port not in literals:
+                literals[port] = value
+        # "Type/name": the robot config's value for that one node, over the tree's literal
+        for port, value in self.port_defaults.get(f"{spec.type}/{spec.name}", {}).items():
+            if port not in refs:
                 literals[port] = value
         if len(self.errors) > before:
             return _Invalid(name=spec.label)

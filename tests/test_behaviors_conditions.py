@@ -103,7 +103,14 @@ def test_is_oscillating_disabled_by_default_and_resets_after_a_gap():
     for _ in range(30):
         statuses.append(tick(on))
         env.clock.advance(0.05)
-    assert statuses[0] == F and statuses[-1] == S
+    first = statuses.index(S)      # 1 s of ticks (one more or less as the float clock rounds)
+    assert statuses[0] == F and 19 <= first <= 21 and statuses.count(S) == 1
+    assert statuses[first + 1] == F  # reported once: the timer restarts (as after a recovery)
+    for _ in range(20):
+        statuses.append(tick(on))
+        env.clock.advance(0.05)
+    second = statuses.index(S, first + 1)                  # a second full timeout later
+    assert 19 <= second - first - 1 <= 21 and statuses.count(S) == 2
     env.clock.advance(5.0)         # not ticked for a while (a recovery ran): timer restarts
     assert tick(on) == F
 

@@ -16,7 +16,8 @@ class IsOscillating(Condition):
     ``oscillation_distance`` metres within ``oscillation_timeout`` seconds (0 = never).
 
     The timer restarts when the goal changes, and, like move_base after a recovery, when the
-    node was not ticked for more than two control periods.
+    node was not ticked for more than two control periods or it reported oscillation at its
+    previous tick (the recovery that followed may have taken no time at all).
     """
 
     INPUT_PORTS = {
@@ -32,17 +33,21 @@ class IsOscillating(Condition):
         self._window = ProgressChecker()
         self._last_tick = -math.inf
         self._goal: Pose2D | None = None
+        self._fired = False
 
     def update(self) -> Status:
         now, pose, goal = self.clock.now(), self.pose(), self.read("goal")
-        if goal != self._goal or now - self._last_tick > 2.0 * self.control_period:
+        if (goal != self._goal or now - self._last_tick > 2.0 * self.control_period
+                or self._fired):
             self._window.reset(pose, now)
             self._goal = goal
+            self._fired = False
         self._last_tick = now
         timeout = self.get_input("oscillation_timeout")
         if timeout <= 0.0:
             return FAILURE
         osc = self._window.stalled(pose, now, self.get_input("oscillation_distance"), timeout)
+        self._fired = osc
         if osc:
             self.say(f"oscillating: moved < {self.get_input('oscillation_distance')} m "
                      f"in {timeout} s")
