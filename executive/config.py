@@ -181,6 +181,10 @@ def move_base_port_values(mb: Parameters) -> dict[str, dict[str, Any]]:
     table: list[tuple[str, str, str, Any]] = [
         ("controller_patience", "FollowPath/ControllerPatience", "failure_tolerance",
          float(mb.controller_patience)),
+        # move_base restarts its recovery list at the first valid command after a recovery; the
+        # tree counts navigation that ran longer than controller_patience (+5 s) as that
+        ("controller_patience", "RecoveryNode/MoveBase", "reset_after",
+         float(mb.controller_patience) + 5.0),
         ("planner_patience", "Timeout/PlannerPatience", "msec",
          int(round(mb.planner_patience * 1000.0))),
         # move_base plans once and retries max_planning_retries more times

@@ -36,6 +36,7 @@ def test_move_base_defaults_leave_the_tree_as_written(tmp_path):
     assert n["OscillationCheck"].get_input("oscillation_distance") == 0.5
     assert n["conservative_reset"].get_input("reset_distance") == 3.0
     assert n["MoveBase"].get_input("number_of_retries") == 4
+    assert n["MoveBase"].get_input("reset_after") == 20.0
 
 
 def test_the_bundled_robot_config_drives_the_tree(tmp_path):
@@ -44,6 +45,7 @@ def test_the_bundled_robot_config_drives_the_tree(tmp_path):
     assert n["OscillationCheck"].get_input("oscillation_timeout") == 10.0
     assert n["OscillationCheck"].get_input("oscillation_distance") == 0.2
     assert n["PlannerPatience"].get_input("msec") == 5000
+    assert n["MoveBase"].get_input("reset_after") == 10.0           # patience + 5 s
 
 
 def test_move_base_parameters_reach_their_nodes_in_the_ports_units(tmp_path):
@@ -64,3 +66,4 @@ def test_move_base_parameters_reach_their_nodes_in_the_ports_units(tmp_path):
     assert n["conservative_reset"].get_input("reset_distance") == 1.5
     assert n["aggressive_reset"].get_input("reset_distance") == 1.84  # not a move_base parameter
     assert n["MoveBase"].get_input("number_of_retries") == 0         # abort at once
+    assert n["MoveBase"].get_input("reset_after") == 8.5
