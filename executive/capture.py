@@ -89,6 +89,8 @@ class RunCapture:
                       "particles": -math.inf}
         self._recovery_nodes: dict[int, str] = {}
         self._status: dict[int, str] = {}
+        self._running: list[str] = []    # the recovery running now (the last in tree order)
+        self._goal: Any = None
         self._last_scan: LaserScan | None = None
 
     # ------------------------------------------------------------------ sink interface
@@ -120,17 +122,25 @@ class RunCapture:
         self.odom.append((op.x, op.y, op.theta))
         v = robot.velocity()
         self.speed.append(math.hypot(v.vx, v.vy))
-        goal = executive.blackboard_get("goal")
+        bb = line.get("bb")
+        if len(self.times) == 1 or (bb is not None and "goal" in bb):
+            # the goal changes only with a blackboard write, which the line reports
+            self._goal = executive.blackboard_get("goal")
+        goal = self._goal
         self.goal_distance.append(math.hypot(goal.x - truth.x, goal.y - truth.y)
                                   if isinstance(goal, Pose2D) else math.nan)
-        for i, s in line.get("status", {}).items():
-            self._status[int(i)] = s
+        changes = line.get("status")
+        if changes:
+            for i, s in changes.items():
+                self._status[int(i)] = s
+            running = [name for i, name in self._recovery_nodes.items()
+                       if self._status.get(i) == "RUNNING"]
+            self._running = running[-1:]
         # the recovery running now, or one that fired and finished within this tick
-        running = [name for i, name in self._recovery_nodes.items()
-                   if self._status.get(i) == "RUNNING"]
-        fired = [e["recovery"] for e in line.get("events", ()) if "recovery" in e]
+        events = line.get("events", ())
+        fired = [e["recovery"] for e in events if "recovery" in e]
         active = -1
-        for name in fired + running[-1:]:
+        for name in fired + self._running:
             if name not in self.recovery_names:
                 self.recovery_names.append(name)
             active = self.recovery_names.index(name)
@@ -144,7 +154,7 @@ class RunCapture:
                 self.scans.append(sample)
                 self._last_scan = scan
                 self._next["scan"] = t + self.scan_every_s
-            if any("recovery" in e for e in line.get("events", ())):
+            if fired:
                 self.recovery_scans.append(
                     sample or ScanSample(tick, t, scan, est.compose(self.laser_mount)))
         comps = executive.components

@@ -37,6 +37,8 @@ import numpy as np
 from navcore.clock import Clock, WallClock
 from navcore.types import Pose2D
 
+from executive.recorder import dumps
+
 TOPICS = ("/map", "/global_costmap", "/local_costmap", "/scan", "/pose", "/plan",
           "/particlecloud", "/tf", "/behavior_tree", "/cmd_vel", "/events")
 LIVE_RESEND_S = 2.0        # simulated seconds between re-sends of map and costmaps, live
@@ -125,6 +127,9 @@ class FoxgloveSink:
     def start(self, header: dict[str, Any], executive: Any) -> None:
         self._nodes = header.get("nodes", [])
         self._status = ["INVALID"] * len(self._nodes)
+        # /behavior_tree is every node each time one changes: its fixed part encoded once
+        self._node_json = [f'{{"name":{dumps(n[0])},"type":{dumps(n[1])},'
+                           f'"depth":{dumps(n[2])},"status":' for n in self._nodes]
         self._period = float(header.get("period") or 0.05)
         io = getattr(executive, "io", None)
         mount = getattr(getattr(io, "laser", None), "mount", None)
@@ -141,6 +146,8 @@ class FoxgloveSink:
     def tick(self, line: dict[str, Any], executive: Any) -> None:
         t = float(line["t"])
         ns = _ns(t)
+        m = self._m
+        stamp = _stamp(m, ns)   # one per tick, shared by its messages
         self._pace(t)
         comps = executive.components
         # fixed things (the map, the laser's mount) go out first, and again now and then live
@@ -152,10 +159,10 @@ class FoxgloveSink:
         self._costmaps(comps, t, ns)
         est = executive.robot.pose()
         odom = executive.last_odom
-        self._transforms(est, odom.pose if odom is not None else est, ns,
+        self._transforms(est, odom.pose if odom is not None else est, ns, stamp,
                          with_laser=resend)
-        self._log("/pose", self._m.PoseInFrame(timestamp=_stamp(self._m, ns), frame_id="map",
-                                               pose=_pose(self._m, est)), ns)
+        self._log("/pose", m.PoseInFrame(timestamp=stamp, frame_id="map", pose=_pose(m, est)),
+                  ns)
         scan = executive.last_scan
         if scan is not None and scan is not self._last_scan:
             self._last_scan = scan
@@ -171,25 +178,29 @@ class FoxgloveSink:
                 ranges=r.tolist()), ns)
         path = line.get("bb", {}).get("path")
         if isinstance(path, dict) and "path" in path:
-            self._log("/plan", self._m.PosesInFrame(
-                timestamp=_stamp(self._m, ns), frame_id="map",
-                poses=[_pose(self._m, Pose2D(x, y, 0.0)) for x, y in path["path"]]), ns)
+            xy = path["path"]
+            self._log("/plan", m.PosesInFrame(
+                timestamp=stamp, frame_id="map",
+                poses=_poses(m, [p[0] for p in xy], [p[1] for p in xy], [0.0] * len(xy))), ns)
         loc = comps.get("localizer")
         if loc is not None and t >= self._next["particles"]:
             parts = np.asarray(getattr(loc, "particles", np.zeros((0, 3))), dtype=np.float64)
             parts = parts[:: max(1, int(math.ceil(len(parts) / MAX_PARTICLES)))]
-            self._log("/particlecloud", self._m.PosesInFrame(
-                timestamp=_stamp(self._m, ns), frame_id="map",
-                poses=[_pose(self._m, Pose2D(*p)) for p in parts]), ns)
+            self._log("/particlecloud", m.PosesInFrame(
+                timestamp=stamp, frame_id="map",
+                poses=_poses(m, parts[:, 0].tolist(), parts[:, 1].tolist(),
+                             parts[:, 2].tolist())), ns)
             self._next["particles"] = t + 0.5
         changes = line.get("status")
         if changes or not self.counts["/behavior_tree"]:
             for i, s in (changes or {}).items():
                 self._status[int(i)] = s
-            self._log_json("/behavior_tree", {
-                "tick": line["tick"], "root": line.get("root", ""),
-                "nodes": [{"name": n[0], "type": n[1], "depth": n[2], "status": s}
-                          for n, s in zip(self._nodes, self._status)]}, ns)
+            # the bytes json.dumps of {"tick", "root", "nodes": [{name, type, depth, status}]}
+            # gives, from the parts encoded at start
+            nodes = ",".join([head + dumps(s) + "}"
+                              for head, s in zip(self._node_json, self._status)])
+            self._log_raw("/behavior_tree", f'{{"tick":{dumps(line["tick"])},'
+                          f'"root":{dumps(line.get("root", ""))},"nodes":[{nodes}]}}', ns)
         cmd = line.get("cmd") or [0.0, 0.0, 0.0]
         self._log_json("/cmd_vel", {"linear_x": cmd[0], "linear_y": cmd[1],
                                     "angular_z": cmd[2]}, ns)
@@ -239,7 +250,10 @@ class FoxgloveSink:
 
     def _log_json(self, topic: str, obj: dict[str, Any], ns: int) -> None:
         # encoded here, compactly: the SDK's own dict path cost several times more per message
-        self.ch[topic].log(json.dumps(obj, separators=(",", ":")).encode("utf-8"), log_time=ns)
+        self._log_raw(topic, dumps(obj), ns)
+
+    def _log_raw(self, topic: str, text: str, ns: int) -> None:
+        self.ch[topic].log(text.encode("utf-8"), log_time=ns)
         self.counts[topic] += 1
 
     def _costmaps(self, comps: dict[str, Any], t: float, ns: int) -> None:
@@ -256,11 +270,11 @@ class FoxgloveSink:
                 self._last_global = costs.copy()
             self._next["global"] = t + (LIVE_RESEND_S if self.live else GLOBAL_EVERY_S)
 
-    def _transforms(self, est: Pose2D, odom: Pose2D, ns: int, with_laser: bool) -> None:
+    def _transforms(self, est: Pose2D, odom: Pose2D, ns: int, stamp: Any,
+                    with_laser: bool) -> None:
         m = self._m
         # map->odom corrects odometry drift: est = map_odom * odom
         map_odom = est.compose(_inverse(odom))
-        stamp = _stamp(m, ns)
         tfs = [_tf(m, stamp, "map", "odom", map_odom), _tf(m, stamp, "odom", "base_link", odom)]
         if with_laser:
             tfs.append(_tf(m, stamp, "base_link", "laser", self._mount))
@@ -309,6 +323,14 @@ def _quat(m: Any, yaw: float) -> Any:
 def _pose(m: Any, p: Pose2D) -> Any:
     return m.Pose(position=m.Vector3(x=float(p.x), y=float(p.y), z=0.0),
                   orientation=_quat(m, float(p.theta)))
+
+
+def _poses(m: Any, xs: list[float], ys: list[float], thetas: list[float]) -> list[Any]:
+    """Poses as ``_pose`` builds them, for many at once (particles, paths)."""
+    vec, quat, pose, sin, cos = m.Vector3, m.Quaternion, m.Pose, math.sin, math.cos
+    return [pose(position=vec(x=float(x), y=float(y), z=0.0),
+                 orientation=quat(x=0.0, y=0.0, z=sin(th / 2), w=cos(th / 2)))
+            for x, y, th in zip(xs, ys, thetas)]
 
 
 def _tf(m: Any, stamp: Any, parent: str, child: str, p: Pose2D) -> Any:
