@@ -597,9 +597,23 @@ def reference_wavefront(cost_lut: np.ndarray, block: float, truncate: bool, cost
     return bool(pot[target] < 1e10), updates, pot
 
 
-def kernel_agrees_with_reference(quadratic: bool, hkind: int, trials: int = 12) -> None:
-    """The compiled kernel against ``reference_wavefront`` on random costmaps (see the test)."""
+def kernel_agrees_with_reference(quadratic: bool, hkind: int, trials: int = 12,
+                                 variant: tuple | None = None) -> None:
+    """The compiled kernel (``variant`` (prefetch, compress), default the planners' own) against
+    ``reference_wavefront`` on random costmaps (see the test)."""
+    from navcore.planners import wavefront
     from navcore.planners.wavefront import Workspace, kernel_tables, run_wavefront
+
+    if variant is not None:
+        key = (quadratic, hkind != 0, *variant)
+        if key not in wavefront._PROPAGATE:
+            wavefront._PROPAGATE[key] = wavefront._make_propagate(*key)
+        saved, wavefront.KERNEL_VARIANT = wavefront.KERNEL_VARIANT, variant
+        try:
+            kernel_agrees_with_reference(quadratic, hkind, trials)
+        finally:
+            wavefront.KERNEL_VARIANT = saved
+        return
 
     rng = np.random.default_rng(21)
     for trial in range(trials):
@@ -631,16 +645,25 @@ def kernel_agrees_with_reference(quadratic: bool, hkind: int, trials: int = 12) 
 
 @pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
 def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
-    """The compiled kernel (queue flags and push costs folded into one float32 gate, kept with
-    the potential in one 8-byte record per cell, the four pushes of an update as one vector
-    step, one variant per update/search kind) visits cells exactly as the plain propagation
-    above: same updates, bit-identical potentials, on random costmaps and band widths."""
-    kernel_agrees_with_reference(quadratic, hkind)
+    """The plain kernel (queue flags and push costs folded into one float32 gate, kept with
+    the potential in one 8-byte record per cell, branch-free pushes, one variant per
+    update/search kind) visits cells exactly as the plain propagation above: same updates,
+    bit-identical potentials, on random costmaps and band widths."""
+    kernel_agrees_with_reference(quadratic, hkind, variant=(False, False))
+
+
+@pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
+def test_fast_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
+    """The fast variant (prefetch hints and the four pushes as one vector step with a
+    compressing store, LLVM IR in navcore/prefetch.py and navcore/planners/push4.py) gives the
+    same updates and potentials on every host: LLVM expands the store where the CPU lacks it."""
+    kernel_agrees_with_reference(quadratic, hkind, variant=(True, True))
 
 
 def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -> None:
-    """The kernel is plain numba, but LLVM vectorises for the host: compile it for a Haswell (no
-    AVX-512; a fresh numba cache) and check that build against the reference too."""
+    """Compiled for a Haswell (no AVX-512; a fresh numba cache) the planners run the prefetching
+    kernel with the plain pushes (no compressing store): check that build against the
+    reference too."""
     import os
     import subprocess
     import sys
@@ -649,8 +672,8 @@ def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -
     script = (
         "import sys\n"
         f"sys.path.insert(0, {str(Path(__file__).parent)!r})\n"
-        "from numba.core.registry import cpu_target\n"
-        "assert '+avx512vl' not in cpu_target.target_context.codegen()._tm_features\n"
+        "from navcore.planners.wavefront import KERNEL_VARIANT\n"
+        "assert KERNEL_VARIANT == (True, False), KERNEL_VARIANT\n"
         "import test_planners as t\n"
         "t.kernel_agrees_with_reference(True, 0, trials=6)\n"
         "t.kernel_agrees_with_reference(False, 1, trials=6)\n"

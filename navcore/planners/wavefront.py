@@ -36,8 +36,11 @@ Why it is shaped this way: one update per passable cell is about all a band orde
 time is the cost of one update, mostly memory. Hence the 8-byte record (one cache line holds
 what a push test and an update need), one compiled variant per (update, search) kind (no flag
 tests in the loop), branch-free pushes (at the wave front their outcome is a coin flip), and
-buffers and gates reused from plan to plan. The measurements behind each choice, and what was
-tried without gain, are in docs/performance.md.
+buffers and gates reused from plan to plan. The planners run a fast variant of the same kernel
+(``KERNEL_VARIANT``: cache prefetch hints, and on AVX-512 the four pushes as one compressing
+vector store, both LLVM IR) that visits the cells in the same order with the same results; the
+plain kernel beside it is what NUMBA_DISABLE_JIT=1 and NAVBT_PLAIN_KERNELS=1 run. The
+measurements behind each choice, and what was tried without gain, are in docs/performance.md.
 
 ``plan_field`` roots the field at the goal and repairs it on a replan (see there).
 """
@@ -47,7 +50,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import os
+
 from numba import njit
+
+from navcore.planners import push4
+from navcore.planners.push4 import push4_next, push4_over
+from navcore.prefetch import prefetch_write
 
 POT_HIGH = np.float32(1.0e10)
 INVSQRT2 = 0.707106781
@@ -77,6 +86,7 @@ HEURISTIC_EUCLIDEAN = 2
 # push rule) at 2n + 1, so an update finds both of a neighbour's values in one cache line.
 POT = 0
 GATE = 1
+assert push4.GATE == GATE
 
 
 @njit(cache=True, inline="always")
@@ -143,6 +153,31 @@ def _push_over(rec: np.ndarray, queue: np.ndarray, count: np.uintp, p: np.float3
     return count + np.uintp(ok)
 
 
+# How many queue places ahead the fast kernel prefetches a cell's lines
+PREFETCH_AHEAD = 8
+
+
+def _target_has_avx512vl() -> bool:
+    """Whether numba compiles for a CPU with AVX-512VL (the compressing store): the CPU named
+    by NUMBA_CPU_NAME / NUMBA_CPU_FEATURES, else the host's (llvmlite's public query)."""
+    from numba.core import config
+    if config.CPU_NAME or config.CPU_FEATURES:
+        return "+avx512vl" in (config.CPU_FEATURES or "")
+    from llvmlite import binding
+    return bool(binding.get_host_cpu_features().get("avx512vl", False))
+
+
+# The kernel variant the planners run, (prefetch, compress): the plain kernel (False, False)
+# under NUMBA_DISABLE_JIT or with NAVBT_PLAIN_KERNELS=1, else the prefetch hints and, on
+# AVX-512 targets, the compressing push (docs/performance.md: each buys 10-20 % at 2000^2).
+PLAIN_VARIANT = (False, False)
+KERNEL_VARIANT = PLAIN_VARIANT if (os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
+                                   or os.environ.get("NAVBT_PLAIN_KERNELS") == "1") \
+    else (True, _target_has_avx512vl())
+
+
+
+
 @njit(cache=True, inline="always")
 def _make_idle(rec: np.ndarray, costs: np.ndarray, lut_push: np.ndarray, queue: np.ndarray,
                count: int) -> None:
@@ -151,10 +186,11 @@ def _make_idle(rec: np.ndarray, costs: np.ndarray, lut_push: np.ndarray, queue: 
         rec[2 * m + GATE] = lut_push[costs[m]]
 
 
-def _make_propagate(quadratic: bool, astar: bool):
-    """``propagate`` compiled for one update kind and search kind: the flags are constants of the
-    closure, so each variant carries only its own code (a single generic kernel spent a third of
-    its instructions on flag tests and on spilled registers)."""
+def _make_propagate(quadratic: bool, astar: bool, prefetch: bool, compress: bool):
+    """``propagate`` compiled for one update kind and search kind, with or without the prefetch
+    hints and the compressing push (``KERNEL_VARIANT``): the flags are constants of the closure,
+    so each variant carries only its own code (a single generic kernel spent a third of its
+    instructions on flag tests and on spilled registers)."""
 
     @njit(cache=True)
     def propagate(costs: np.ndarray, lut_push: np.ndarray, lut_hf: np.ndarray,
@@ -215,9 +251,18 @@ def _make_propagate(quadratic: bool, astar: bool):
                 # a former overflow queue may hold a cell twice: make all idle first, as navfn
                 # clears its flags
                 _make_idle(rec, costs, lut_push, cur, ncur)
+            ahead = np.uintp(PREFETCH_AHEAD)
             for i in range(ncur):
                 # unsigned indices: numba then skips its negative-index wraparound test
                 n = np.uintp(cur[i])
+                if prefetch and i + ahead < ncur:
+                    # the front's lines come from L3 or memory: ask for those of a cell a few
+                    # places ahead in the queue while this one is updated (same results)
+                    f = np.uintp(cur[i + ahead])
+                    prefetch_write(rec, two * (f - unx))
+                    prefetch_write(rec, two * f)
+                    prefetch_write(rec, two * (f + unx))
+                    prefetch_write(costs, f)
                 cn = np.uintp(costs[n]) << np.uintp(2)
                 if not from_over:
                     # a queue filled as ``next`` holds each cell once, so it turns idle as it
@@ -250,7 +295,14 @@ def _make_propagate(quadratic: bool, astar: bool):
                 else:
                     below = p < t
                 # the push rule above, all four neighbours at once
-                if below:
+                if compress:  # the same pushes as one vector step (navcore/planners/push4.py)
+                    if below:
+                        nnext = push4_next(rec, nxt, nnext, p, l, r, u, d, n - one, n + one,
+                                           n - unx, n + unx)
+                    else:
+                        nover = push4_over(rec, over, nover, p, l, r, u, d, n - one, n + one,
+                                           n - unx, n + unx)
+                elif below:
                     nnext = _push_next(rec, nxt, nnext, p, l, n - one)
                     nnext = _push_next(rec, nxt, nnext, p, r, n + one)
                     nnext = _push_next(rec, nxt, nnext, p, u, n - unx)
@@ -300,7 +352,8 @@ def _make_propagate(quadratic: bool, astar: bool):
     return propagate
 
 
-_PROPAGATE = {(q, a): _make_propagate(q, a) for q in (False, True) for a in (False, True)}
+_PROPAGATE = {(q, a, *v): _make_propagate(q, a, *v) for q in (False, True)
+              for a in (False, True) for v in {PLAIN_VARIANT, KERNEL_VARIANT}}
 
 
 def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarray,
@@ -323,7 +376,7 @@ def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarra
     distance to ``target`` instead of the potential alone (the stored potential has no heuristic).
     With a consistent heuristic every cell whose key is below a finished band is final, as above.
     """
-    kernel = _PROPAGATE[(bool(quadratic), hkind != HEURISTIC_NONE)]
+    kernel = _PROPAGATE[(bool(quadratic), hkind != HEURISTIC_NONE, *KERNEL_VARIANT)]
     return kernel(costs, *tables, nx, ny, rec, buf_a, buf_b, buf_c, seed_cells, seed_pots,
                   push_cells, target, threshold, increment, max_cycles, hkind, hscale,
                   stop_margin)
