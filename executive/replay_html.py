@@ -34,6 +34,27 @@ def _b64(a: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")
 
 
+def path_code(points: Sequence[Sequence[float]]) -> Any:
+    """A planned path for the page: ``[x0, y0, steps]``, its first point and the others as
+    base64 int16 centimetres from it (a third of the JSON list's size: a long run replans
+    hundreds of times), or the list itself when it is empty or reaches beyond 327 m."""
+    if len(points) == 0:
+        return []
+    a = np.asarray(points, dtype=float)[:, :2]
+    off = np.round((a - a[0]) * 100.0)
+    if not np.all(np.abs(off) <= 32767):
+        return [list(map(float, q[:2])) for q in points]
+    return [float(a[0, 0]), float(a[0, 1]), _b64(off.astype("<i2"))]
+
+
+def path_points(code: Any) -> list[list[float]]:
+    """The points of a path as ``path_code`` wrote it (or of a plain list)."""
+    if len(code) == 3 and isinstance(code[2], str):
+        off = np.frombuffer(base64.b64decode(code[2]), "<i2").reshape(-1, 2) / 100.0
+        return (off + np.array([code[0], code[1]])).tolist()
+    return [list(q) for q in code]
+
+
 def _costmap_palette() -> tuple[list[int], bytes]:
     """RGB palette and alpha per costmap value: inflation blue with an alpha that grows with
     cost, inscribed (253) orange, lethal (254) magenta, free and unknown transparent."""
@@ -149,7 +170,7 @@ def page_data(header: dict[str, Any], ticks: list[dict[str, Any]],
         bb = {k: v for k, v in line.get("bb", {}).items()}
         path = bb.pop("path", None)
         if isinstance(path, dict) and "path" in path:
-            data["paths"].append([i, path["path"]])
+            data["paths"].append([i, path_code(path["path"])])
             bb["path"] = f"<path of {len(path['path'])} points>"
         elif path is None and "path" in line.get("bb", {}):
             data["paths"].append([i, []])
@@ -329,6 +350,10 @@ function img(uri){if(!images[uri]){const im=new Image();im.onload=draw;im.src=ur
  return images[uri];}
 const scans=(D.scans||[]).map(([i,lp,b])=>[i,lp,b64i16(b)]);
 const parts=(D.particles||[]).map(([i,b])=>[i,b64i16(b)]);
+// paths: [x0, y0, int16 centimetres from (x0, y0)] (path_code), or a plain list of points
+const paths=(D.paths||[]).map(([i,p])=>{if(p.length!==3||typeof p[2]!=="string")return [i,p];
+ const v=b64i16(p[2]),q=[];for(let k=0;k+1<v.length;k+=2)q.push([p[0]+v[k]/100,p[1]+v[k+1]/100]);
+ return [i,q];});
 // the view: the run's box fitted into the canvas
 const cv=$("view"),ctx=cv.getContext("2d");
 const [bx0,by0,bx1,by1]=D.box;
@@ -354,7 +379,7 @@ function draw(){
  const traj=D.pose.filter(p=>p);poly(traj,"rgba(20,150,40,0.25)",1);
  poly(D.pose.slice(0,i+1).filter(p=>p),"rgb(20,150,40)",2);
  if(D.truth)poly(D.truth.slice(0,i+1),"rgba(0,0,0,0.5)",1);
- if($("show-path").checked){const p=lastAtOrBefore(D.paths,i);if(p)poly(p[1],"rgb(60,110,230)",2);}
+ if($("show-path").checked){const p=lastAtOrBefore(paths,i);if(p)poly(p[1],"rgb(60,110,230)",2);}
  if($("show-particles").checked){const p=lastAtOrBefore(parts,i);if(p){ctx.fillStyle="rgba(200,0,0,0.6)";
   for(let k=0;k<p[1].length;k+=2)ctx.fillRect(X(p[1][k]/100)-1,Y(p[1][k+1]/100)-1,2,2);}}
  if($("show-laser").checked){const s=lastAtOrBefore(scans,i);if(s){ctx.fillStyle="rgb(230,0,90)";
@@ -457,8 +482,9 @@ def draw_frame(data: dict[str, Any], i: int, out_path: str, width: int = 760,
     if len(poses) >= 2:
         draw.line([(X(p[0]), Y(p[1])) for p in poses], fill=(20, 150, 40), width=2)
     path = _last_at_or_before(data["paths"], i)
-    if path is not None and len(path[1]) >= 2:
-        draw.line([(X(p[0]), Y(p[1])) for p in path[1]], fill=(60, 110, 230), width=2)
+    points = path_points(path[1]) if path is not None else []
+    if len(points) >= 2:
+        draw.line([(X(p[0]), Y(p[1])) for p in points], fill=(60, 110, 230), width=2)
     parts = _last_at_or_before(data.get("particles", []), i)
     if parts is not None:
         xy = np.frombuffer(base64.b64decode(parts[1]), "<i2").reshape(-1, 2) / 100.0

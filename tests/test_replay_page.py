@@ -11,7 +11,7 @@ import pytest
 from PIL import Image
 
 from executive.recorder import read_log, statuses_at
-from executive.replay_html import read_page_data
+from executive.replay_html import path_points, read_page_data
 
 
 def test_page_data_matches_tick_log_and_is_offline(demo_run):
@@ -31,6 +31,13 @@ def test_page_data_matches_tick_log_and_is_offline(demo_run):
     assert len(data["local_costmaps"]) >= int(t_end)
     assert data["global_costmaps"] and data["map"]["png"].startswith("data:image/png;base64,")
     assert data["footer"]["outcome"] == "succeeded"
+    # each replan's path, encoded small: its points within half a centimetre of the log's
+    logged = [(i, t["bb"]["path"]["path"]) for i, t in enumerate(ticks)
+              if isinstance(t.get("bb", {}).get("path"), dict) and t["bb"]["path"]["path"]]
+    shown = [(i, path_points(code)) for i, code in data["paths"] if code]
+    assert len(logged) >= 3 and [i for i, _ in shown] == [i for i, _ in logged]
+    for (_, got), (_, want) in zip(shown, logged):
+        assert np.abs(np.asarray(got) - np.asarray(want)).max() <= 0.005 + 1e-9
 
 
 def _driver():
@@ -88,6 +95,11 @@ def test_replay_page_in_headless_chromium(demo_run):
         px = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).reshape(-1, 3)
         assert len(np.unique(px, axis=0)) > 20
         assert np.mean(np.any(px < 240, axis=1)) > 0.2
+        # the page decodes the encoded paths to the points the log holds
+        page_path = driver.execute_script("return paths.filter(p => p[1].length).pop()[1];")
+        want = [t["bb"]["path"]["path"] for t in ticks
+                if isinstance(t.get("bb", {}).get("path"), dict) and t["bb"]["path"]["path"]][-1]
+        assert np.abs(np.asarray(page_path) - np.asarray(want)).max() <= 0.005 + 1e-9
         errors = [e for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
         assert not errors, errors
     finally:
