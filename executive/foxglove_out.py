@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from navcore.clock import Clock, WallClock
-from navcore.types import Pose2D
+from navcore.types import Pose2D, normalize_angle
 
 from executive.recorder import dumps
 
@@ -148,7 +148,8 @@ class FoxgloveSink:
         ns = _ns(t)
         m = self._m
         stamp = _stamp(m, ns)   # one per tick, shared by its messages
-        self._pace(t)
+        if self.live:
+            self._pace(t)
         comps = executive.components
         # fixed things (the map, the laser's mount) go out first, and again now and then live
         resend = t >= self._next["resend"]
@@ -166,16 +167,7 @@ class FoxgloveSink:
         scan = executive.last_scan
         if scan is not None and scan is not self._last_scan:
             self._last_scan = scan
-            r = np.asarray(scan.ranges, dtype=np.float64)
-            bad = ~(r < scan.range_max)            # NaN, inf and max range: no return
-            if bad.any():
-                r = r.copy()
-                r[bad] = 0.0
-            self._log("/scan", self._m.LaserScan(
-                timestamp=_stamp(self._m, _ns(float(scan.stamp))), frame_id="laser",
-                pose=self._origin, start_angle=float(scan.angle_min),
-                end_angle=float(scan.angle_min + scan.angle_increment * (len(r) - 1)),
-                ranges=r.tolist()), ns)
+            self._scan(scan, ns)
         path = line.get("bb", {}).get("path")
         if isinstance(path, dict) and "path" in path:
             xy = path["path"]
@@ -202,8 +194,8 @@ class FoxgloveSink:
             self._log_raw("/behavior_tree", f'{{"tick":{dumps(line["tick"])},'
                           f'"root":{dumps(line.get("root", ""))},"nodes":[{nodes}]}}', ns)
         cmd = line.get("cmd") or [0.0, 0.0, 0.0]
-        self._log_json("/cmd_vel", {"linear_x": cmd[0], "linear_y": cmd[1],
-                                    "angular_z": cmd[2]}, ns)
+        self._log_raw("/cmd_vel", f'{{"linear_x":{_num(cmd[0])},"linear_y":{_num(cmd[1])},'
+                                  f'"angular_z":{_num(cmd[2])}}}', ns)
         for e in line.get("events", ()):
             self._event(e, ns)
         if self.server is not None:
@@ -256,6 +248,15 @@ class FoxgloveSink:
         self.ch[topic].log(text.encode("utf-8"), log_time=ns)
         self.counts[topic] += 1
 
+    def _scan(self, scan: Any, ns: int) -> None:
+        r = np.asarray(scan.ranges, dtype=np.float64)
+        r = np.where(r < scan.range_max, r, 0.0)   # NaN, inf and max range: no return
+        self._log("/scan", self._m.LaserScan(
+            timestamp=_stamp(self._m, _ns(float(scan.stamp))), frame_id="laser",
+            pose=self._origin, start_angle=float(scan.angle_min),
+            end_angle=float(scan.angle_min + scan.angle_increment * (len(r) - 1)),
+            ranges=r.tolist()), ns)
+
     def _costmaps(self, comps: dict[str, Any], t: float, ns: int) -> None:
         cm = comps.get("local_costmap")
         if cm is not None and t >= self._next["local"]:
@@ -274,8 +275,8 @@ class FoxgloveSink:
                     with_laser: bool) -> None:
         m = self._m
         # map->odom corrects odometry drift: est = map_odom * odom
-        map_odom = est.compose(_inverse(odom))
-        tfs = [_tf(m, stamp, "map", "odom", map_odom), _tf(m, stamp, "odom", "base_link", odom)]
+        tfs = [_tf_xyt(m, stamp, "map", "odom", *_map_odom(est, odom)),
+               _tf(m, stamp, "odom", "base_link", odom)]
         if with_laser:
             tfs.append(_tf(m, stamp, "base_link", "laser", self._mount))
         self._log("/tf", m.FrameTransforms(transforms=tfs), ns)
@@ -299,17 +300,29 @@ class FoxgloveSink:
                                    message=text), ns)
 
 
+def _map_odom(est: Pose2D, odom: Pose2D) -> tuple[float, float, float]:
+    """map->odom as (x, y, theta): est (+) odom^-1, written out (no Pose2D made per tick)."""
+    c, s = math.cos(odom.theta), math.sin(odom.theta)
+    ix, iy = -(c * odom.x + s * odom.y), -(-s * odom.x + c * odom.y)
+    c, s = math.cos(est.theta), math.sin(est.theta)
+    return (est.x + c * ix - s * iy, est.y + s * ix + c * iy,
+            normalize_angle(est.theta + -odom.theta))
+
+
+def _num(v: Any) -> str:
+    """``v`` as json.dumps writes it (a finite float is its repr): a per-tick message built as
+    text costs a fraction of a dict through the encoder."""
+    if type(v) is float and v - v == 0.0:
+        return float.__repr__(v)
+    return dumps(v)
+
+
 def _messages() -> Any:
     try:
         from foxglove import messages
     except ImportError:  # older SDKs name the module schemas
         from foxglove import schemas as messages  # type: ignore[no-redef]
     return messages
-
-
-def _inverse(p: Pose2D) -> Pose2D:
-    c, s = math.cos(p.theta), math.sin(p.theta)
-    return Pose2D(-(c * p.x + s * p.y), -(-s * p.x + c * p.y), -p.theta)
 
 
 def _stamp(m: Any, ns: int) -> Any:
@@ -334,9 +347,14 @@ def _poses(m: Any, xs: list[float], ys: list[float], thetas: list[float]) -> lis
 
 
 def _tf(m: Any, stamp: Any, parent: str, child: str, p: Pose2D) -> Any:
+    return _tf_xyt(m, stamp, parent, child, p.x, p.y, p.theta)
+
+
+def _tf_xyt(m: Any, stamp: Any, parent: str, child: str, x: float, y: float, theta: float
+            ) -> Any:
     return m.FrameTransform(timestamp=stamp, parent_frame_id=parent, child_frame_id=child,
-                            translation=m.Vector3(x=float(p.x), y=float(p.y), z=0.0),
-                            rotation=_quat(m, float(p.theta)))
+                            translation=m.Vector3(x=float(x), y=float(y), z=0.0),
+                            rotation=_quat(m, float(theta)))
 
 
 def _grid(m: Any, values: np.ndarray, res: float, ox: float, oy: float, ns: int,

@@ -4,13 +4,14 @@ protocol on loopback."""
 from __future__ import annotations
 
 import json
+import math
 import struct
 import threading
 import time
 
 import pytest
 
-from executive.recorder import read_log
+from executive.recorder import read_log, statuses_at
 
 pytest.importorskip("foxglove", reason="foxglove-sdk not installed (pip install navbt[foxglove])")
 mcap_reader = pytest.importorskip("mcap.reader", reason="mcap not installed (navbt[foxglove])")
@@ -71,6 +72,33 @@ def test_run_mcap_channels_schemas_counts_and_stamps(demo_run):
         last = tree[-1]
         changed = [t for t in ticks if t.get("status")][-1]
         assert last["tick"] == changed["tick"]
+        # every tree message: each node's name, type, depth and its status after that tick
+        for msg in tree:
+            assert [[n["name"], n["type"], n["depth"]] for n in msg["nodes"]] == header["nodes"]
+            assert [n["status"] for n in msg["nodes"]] == statuses_at(header, ticks, msg["tick"])
+
+
+def test_map_to_odom_is_pose_after_inverse_odometry():
+    import numpy as np
+
+    from executive.foxglove_out import _map_odom
+    from navcore.types import Pose2D
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        est, odom = (Pose2D(*rng.uniform(-50, 50, 2), rng.uniform(-3.2, 3.2)) for _ in range(2))
+        x, y, th = _map_odom(est, odom)
+        want = est.compose(odom.inverse())
+        assert abs(x - want.x) < 1e-9 and abs(y - want.y) < 1e-9
+        assert abs(math.remainder(th - want.theta, 2 * math.pi)) < 1e-9
+        back = Pose2D(x, y, th).compose(odom)   # map_odom * odom is the estimate
+        assert abs(back.x - est.x) < 1e-9 and abs(back.y - est.y) < 1e-9
+
+
+def test_json_numbers_as_json_writes_them():
+    from executive.foxglove_out import _num
+    for v in (0.0, -0.0, 0.1234, -1.5, 1e-7, 1e22, 3, True, None, float("nan"), float("inf"),
+              -float("inf")):
+        assert _num(v) == json.dumps(v), v
 
 
 def test_live_run_serves_every_channel_on_loopback():
