@@ -21,6 +21,7 @@ from navcore.maps import OccupancyGrid
 from navcore.raycast import distance_field
 from navcore.types import Pose2D
 
+from executive.scenarios.fields import _Bad, _int, _mapping, _num, _shape
 from executive.scenarios.model import Scenario, Shape
 from executive.scenarios.source import Path_, Problems, ScenarioError
 
@@ -33,7 +34,6 @@ _SPEC_KEYS = {
 
 def check_spec(pb: Problems, path: Path_, key: str, v: Any) -> Any:
     """Validate one generator's mapping (clutter may be a list of them)."""
-    from executive.scenarios.parse import _Bad, _int, _mapping, _num, _shape
     if key == "clutter" and isinstance(v, list):
         return [check_spec(pb, path + (i,), key, x)[0] for i, x in enumerate(v)]
     d = _mapping(pb, path, v, _SPEC_KEYS[key])
