@@ -74,12 +74,16 @@ def _key_lines(node: Any, path: Path_, lines: dict[Path_, int]) -> None:
                 p = path + (str(k.value),)
                 lines.setdefault(p, k.start_mark.line + 1)
                 _key_lines(v, p, lines)
+    elif isinstance(node, yaml.SequenceNode):   # list items by index: ("points", 2, "key")
+        for i, v in enumerate(node.value):
+            lines.setdefault(path + (i,), v.start_mark.line + 1)
+            _key_lines(v, path + (i,), lines)
 
 
 def parse_yaml_lines(text: str, file: str, error: Any = None
                      ) -> tuple[Any, dict[Path_, int]]:
     """Safe-parse YAML text (navcore.safe_read's limits): the data and the 1-based line of every
-    mapping key, by key path."""
+    mapping key and list item, by key path (indices for list items)."""
     error = error or ParamsError
     node = compose_yaml(text, file, error=error)
     if node is None:

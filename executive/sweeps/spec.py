@@ -20,10 +20,9 @@ import os
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-import yaml
-
 from navcore.params import suggest
-from navcore.safe_read import compose_yaml, node_value
+
+from executive.param_files import parse_yaml_lines
 
 TOP_KEYS = ("name", "description", "scenarios", "seeds", "trees", "config", "launch", "args",
             "params", "nav2_params", "grid", "zip", "points", "time_limit", "search", "trials",
@@ -114,39 +113,6 @@ class SweepSpec:
                         out.append(RunTask(path, int(seed), tree, tuple(sorted(p.items())),
                                            self.config, self.time_limit))
         return out
-
-
-# --------------------------------------------------------------------------- YAML with lines
-def load_with_lines(text: str, source: str) -> tuple[Any, dict[tuple, int]]:
-    """Parse YAML safely; also return the line (1-based) of every mapping key and list item,
-    keyed by its path of keys / indices."""
-    try:  # one reading path: depth, alias and number limits of navcore.safe_read
-        node = compose_yaml(text, source, error=SweepError)
-        doc = None if node is None else node_value(node, source, error=SweepError)
-    except SweepError:
-        raise
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = f":{mark.line + 1}" if mark is not None else ""
-        raise SweepError(f"{source}{line}: not valid YAML ({getattr(e, 'problem', e)})") from None
-    except (ValueError, OverflowError, RecursionError) as e:
-        raise SweepError(f"{source}: not valid YAML ({type(e).__name__})") from None
-    lines: dict[tuple, int] = {}
-    stack: list[tuple[tuple, Any]] = [((), node)]
-    while stack:
-        path, n = stack.pop()
-        if n is None:
-            continue
-        lines.setdefault(path, n.start_mark.line + 1)
-        if isinstance(n, yaml.MappingNode):
-            for k, v in n.value:
-                key = k.value if isinstance(k, yaml.ScalarNode) else str(k)
-                lines[path + (key,)] = k.start_mark.line + 1
-                stack.append((path + (key,), v))
-        elif isinstance(n, yaml.SequenceNode):
-            for i, v in enumerate(n.value):
-                stack.append((path + (i,), v))
-    return doc, lines
 
 
 class _Where:
@@ -376,7 +342,7 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
         raise SweepError(f"{path}: not UTF-8 text (byte {e.start})") from None
     except OSError as e:
         raise SweepError(f"{path}: cannot read sweep file ({e.strerror or e})") from None
-    doc, lines = load_with_lines(text, path)
+    doc, lines = parse_yaml_lines(text, path, error=SweepError)
     err = _Where(path, lines)
     if not isinstance(doc, Mapping):
         raise err((), "a sweep file must be a mapping")
