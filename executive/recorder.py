@@ -47,6 +47,8 @@ def to_jsonable(value: Any) -> Any:
     kind = type(value)
     if kind is Pose2D:  # the usual values first: one type test each
         return [round(value.x, 4), round(value.y, 4), round(value.theta, 4)]
+    if kind is Twist:
+        return [round(value.vx, 4), round(value.vy, 4), round(value.wz, 4)]
     if kind is float:
         return round(value, 4) if math.isfinite(value) else str(value)
     if value is None or isinstance(value, (bool, int, str)):
