@@ -30,10 +30,13 @@ class NavigateToPose(Control):
     DEFAULT_KEYS = {"goal": "goal"}
     MIN_CHILDREN = 0
     MAX_CHILDREN = 0
+    # what NavigateThroughPoses changes: the planning node and the port its goal arrives on
+    PLANNER: type = ComputePathToPose
+    GOAL_PORT = "goal"
 
     def __init__(self, name: str = "", children: Any = None, **kwargs: Any) -> None:
-        base = name or "NavigateToPose"
-        self._plan = ComputePathToPose(name=f"{base}.ComputePathToPose")
+        base = name or type(self).__name__
+        self._plan = self.PLANNER(name=f"{base}.{self.PLANNER.__name__}")
         self._rate = RateController(name=f"{base}.RateController", child=self._plan)
         self._follow = FollowPath(name=f"{base}.FollowPath")
         self._pipe = PipelineSequence(name=f"{base}.Pipeline", children=[self._rate, self._follow])
@@ -43,8 +46,9 @@ class NavigateToPose(Control):
              literals: dict[str, Any] | None = None) -> None:
         super().wire(namespace, refs, literals)
         lit = self._literals
-        goal_ref = {} if "goal" in lit else {"goal": self.port_key("goal")}
-        goal_lit = {"goal": lit["goal"]} if "goal" in lit else {}
+        g = self.GOAL_PORT
+        goal_ref = {} if g in lit else {g: self.port_key(g)}
+        goal_lit = {g: lit[g]} if g in lit else {}
         self._plan.wire(namespace, goal_ref, {**goal_lit,
                                               "planner_id": self.get_input("planner_id")})
         self._rate.wire(namespace, {}, {"hz": self.get_input("replan_hz")})
