@@ -22,7 +22,8 @@ from xml.parsers import expat
 from executive.param_files import Note, ParamsError, Path_, parse_yaml_lines, read_yaml
 from executive.ros_params import ParamTree, split_name
 from navcore.params import suggest
-from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_yaml, read_bytes, read_text
+from navcore.safe_read import (MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_xml, parse_yaml, read_bytes,
+                               read_text)
 
 
 @dataclass
@@ -61,22 +62,10 @@ def _parse(file: str) -> _Elem:
                 el.text_line = parser.CurrentLineNumber
             el.text += text
 
-    def no_entities(name: str, *_: Any) -> None:  # no entity can expand into a bomb
-        raise ParamsError(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are "
-                          f"not allowed (entity '{name}')")
-
     parser.StartElementHandler = start
     parser.EndElementHandler = end
     parser.CharacterDataHandler = chars
-    parser.EntityDeclHandler = no_entities
-    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
-    try:
-        parser.Parse(data, True)
-    except expat.ExpatError as e:
-        raise ParamsError(f"{file}:{e.lineno}: not valid XML: "
-                          f"{expat.ErrorString(e.code)}") from None
-    except (LookupError, ValueError, UnicodeError) as e:
-        raise ParamsError(f"{file}:{parser.CurrentLineNumber}: not valid XML: {e}") from None
+    parse_xml(parser, data, file, error=ParamsError)
     if not root:
         raise ParamsError(f"{file}:1: not valid XML: no element")
     if root[0].tag != "launch":

@@ -21,7 +21,7 @@ from behaviors.base import NavNode
 from behaviors.registry import category
 from executive import nav2_model
 from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors, Where
-from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, read_bytes
+from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_xml, read_bytes
 from navcore.types import Pose2D
 
 # Attributes of Nav2's BtActionNode/BtServiceNode and friends that have no meaning here; the
@@ -62,26 +62,13 @@ def _parse(file: str, text: str | None = None) -> _Elem:
     def end(tag: str) -> None:
         stack.pop()
 
-    def no_entities(name: str, *_: Any) -> None:  # no entity can expand into a bomb
-        raise TreeError(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are not "
-                        f"allowed (entity '{name}')")
-
     def comment(text: str) -> None:
         pending.append(text.strip())
 
     parser.StartElementHandler = start
     parser.CommentHandler = comment
     parser.EndElementHandler = end
-    parser.EntityDeclHandler = no_entities
-    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
-    try:
-        parser.Parse(data, True)
-    except expat.ExpatError as e:
-        raise TreeError(f"{file}:{e.lineno}: not valid XML: {expat.ErrorString(e.code)}") from None
-    except LookupError as e:  # encoding="..." naming no codec Python knows
-        raise TreeError(f"{file}:1: not valid XML: {e}") from None
-    except (ValueError, UnicodeError) as e:
-        raise TreeError(f"{file}:{parser.CurrentLineNumber}: not valid XML: {e}") from None
+    parse_xml(parser, data, file, error=TreeError)
     if not root:
         raise TreeError(f"{file}:1: not valid XML: no element")
     return root[0]

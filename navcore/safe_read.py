@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 import re
 import stat
+from xml.parsers import expat
 from typing import Any, Callable
 
 import yaml
@@ -269,3 +270,23 @@ def load_yaml_keys(path: str | os.PathLike, *, what: str = "file", error: ErrorT
 def line_of(node: yaml.Node | None) -> int:
     """1-based line of a composed node (1 when unknown)."""
     return node.start_mark.line + 1 if node is not None and node.start_mark is not None else 1
+
+
+def parse_xml(parser: Any, data: bytes, file: str, *, error: ErrorType = ReadError) -> None:
+    """Feed ``data`` to an expat ``parser`` whose element handlers the caller has set, refusing
+    entity declarations (no entity can expand into a bomb); every failure is ``error`` naming
+    the file and line."""
+    def no_entities(name: str, *_: Any) -> None:
+        raise error(f"{file}:{parser.CurrentLineNumber}: XML entity declarations are not "
+                    f"allowed (entity '{name}')")
+
+    parser.EntityDeclHandler = no_entities
+    parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    try:
+        parser.Parse(data, True)
+    except expat.ExpatError as e:
+        raise error(f"{file}:{e.lineno}: not valid XML: {expat.ErrorString(e.code)}") from None
+    except LookupError as e:  # encoding="..." naming no codec Python knows
+        raise error(f"{file}:1: not valid XML: {e}") from None
+    except (ValueError, UnicodeError) as e:
+        raise error(f"{file}:{parser.CurrentLineNumber}: not valid XML: {e}") from None
