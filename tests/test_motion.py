@@ -148,6 +148,25 @@ def test_first_blocked_path_pose_on_the_grid():
     assert first_blocked(cm, poses, INSCRIBED_INFLATED_OBSTACLE) is None
 
 
+def test_blocked_poses_all_of_them_and_within_a_lookahead():
+    """ValidatePath's check: every blocked pose, or those within a path length."""
+    from navcore.costmap.cost_values import NO_INFORMATION
+    from navcore.costmap.path_check import blocked_poses
+    cm = Costmap2D(20, 10, 0.1, 0.0, 0.0)
+    cm.costs[5, 8] = NO_INFORMATION
+    cm.costs[5, 12] = INSCRIBED_INFLATED_OBSTACLE
+    cm.costs[5, 16] = INSCRIBED_INFLATED_OBSTACLE
+    poses = np.array([[0.05 + 0.1 * i, 0.55, 0.0] for i in range(20)])
+    assert blocked_poses(cm, poses, 252, first_only=False) == [(12, 253), (16, 253)]
+    assert blocked_poses(cm, poses, 252, True, first_only=False) == [(8, 255), (12, 253),
+                                                                      (16, 253)]
+    # 1.25 m along the path reaches pose 12 (1.2 m from pose 0), not pose 16 (1.6 m)
+    assert blocked_poses(cm, poses, 252, max_length=1.25, first_only=False) == [(12, 253)]
+    assert blocked_poses(cm, poses, 252, max_length=1.1) == []
+    # an unknown cell blocks whenever unknown cells block, whatever max_cost says
+    assert blocked_poses(cm, poses, 255, True) == [(8, 255)]
+
+
 def test_back_off_trail_goes_back_from_the_nearest_pose_to_a_free_one():
     from navcore.motion.trail import back_off_trail
     history = [Pose2D(0.1 * i, 0.0, 0.0) for i in range(21)]          # 0 .. 2 m along x

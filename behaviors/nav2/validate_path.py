@@ -7,7 +7,8 @@ from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
 from behaviors.conditions.condition import Condition
-from navcore.costmap.cost_values import LETHAL_OBSTACLE, NO_INFORMATION
+from navcore.costmap.cost_values import LETHAL_OBSTACLE
+from navcore.costmap.path_check import blocked_poses
 from navcore.types import Path
 
 
@@ -45,29 +46,11 @@ class ValidatePath(Condition):
             self.say("no path")
             self.write("collision_poses", [])
             return FAILURE
-        grid = self.costmap.costmap
-        max_cost = self.get_input("max_cost")
-        unknown_blocks = self.get_input("consider_unknown_as_obstacle")
-        lookahead = self.get_input("max_lookahead_distance")
-        first_only = self.get_input("stop_at_first_collision")
-        bad: list = []
-        travelled, prev = 0.0, None
-        for i, (x, y, _) in enumerate(path.poses):
-            if prev is not None:
-                travelled += float(((x - prev[0]) ** 2 + (y - prev[1]) ** 2) ** 0.5)
-            prev = (x, y)
-            if lookahead > 0.0 and travelled > lookahead:
-                break
-            cell = grid.world_to_map(float(x), float(y))
-            if cell is None:
-                continue
-            cost = int(grid.costs[cell[1], cell[0]])
-            if cost == NO_INFORMATION and not unknown_blocks:
-                continue
-            if cost > max_cost or (cost == NO_INFORMATION and unknown_blocks):
-                bad.append(path.pose(i))
-                if first_only:
-                    break
+        hits = blocked_poses(self.costmap.costmap, path.poses, self.get_input("max_cost"),
+                             self.get_input("consider_unknown_as_obstacle"),
+                             self.get_input("max_lookahead_distance"),
+                             self.get_input("stop_at_first_collision"))
+        bad = [path.pose(i) for i, _ in hits]
         self.write("collision_poses", bad)
         if bad:
             self.say(f"{len(bad)} path poses collide, first at ({bad[0].x:.2f}, {bad[0].y:.2f})")
