@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from hw.interfaces import BaseEvents, BatteryState
+from hw.logplayback import RecordedBase
 from navcore.clock import Clock
-from navcore.types import LaserScan, Odometry, Pose2D, Twist
+from navcore.types import LaserScan, Pose2D, Twist
 
 FORMATS = ("ros1", "ros2", "ros2-mcap")
 _TF_MSG = "geometry_msgs/TransformStamped[] transforms\n"
@@ -312,7 +312,7 @@ def read_bag(path: str | os.PathLike, scan_topic: str = "/scan", odom_topic: str
     return log
 
 
-class BagPlayback:
+class BagPlayback(RecordedBase):
     """Plays a ``BagLog`` on the executive's clock through the ``Base`` and ``Laser``
     interfaces: ``scan()`` and ``odometry()`` return the newest message stamped at or before
     ``clock.now()``, or None before the first (as ``hw.logplayback.LogPlayback``)."""
@@ -324,28 +324,12 @@ class BagPlayback:
         self._clock = clock
         self._scan_times = log.scan_times
         self.mount = log.laser_mount
+        self.time_offset = 0.0
         self.last_cmd: Twist | None = None
 
     def scan(self) -> LaserScan | None:
         k = int(np.searchsorted(self._scan_times, self._clock.now(), side="right")) - 1
         return self.log.scans[k] if k >= 0 else None
-
-    def odometry(self) -> Odometry | None:
-        j = int(np.searchsorted(self.log.odom_times, self._clock.now(), side="right")) - 1
-        if j < 0:
-            return None
-        x, y, th = self.log.odom_poses[j]
-        return Odometry(stamp=float(self.log.odom_times[j]),
-                        pose=Pose2D(float(x), float(y), float(th)))
-
-    def send(self, cmd: Twist) -> None:
-        self.last_cmd = cmd
-
-    def battery(self) -> BatteryState | None:
-        return None
-
-    def events(self) -> BaseEvents:
-        return BaseEvents()
 
     @property
     def finished(self) -> bool:

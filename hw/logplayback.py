@@ -14,6 +14,7 @@ import gzip
 import math
 import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -210,7 +211,38 @@ def read_carmen(path: str | os.PathLike) -> CarmenLog:
     )
 
 
-class LogPlayback:
+class RecordedBase:
+    """The ``Base`` side of a recorded log played on the executive's clock: ``odometry()`` is
+    the newest odometry stamped at or before ``clock.now() - time_offset`` (None before the
+    first), and ``send`` only records the last command, since a recording cannot be steered.
+    A subclass sets ``log`` (with ``odom_times`` and ``odom_poses``), ``_clock``,
+    ``time_offset`` and ``last_cmd``."""
+
+    log: Any
+    _clock: Clock
+    time_offset: float
+    last_cmd: Twist | None
+
+    def odometry(self) -> Odometry | None:
+        t = self._clock.now() - self.time_offset
+        j = int(np.searchsorted(self.log.odom_times, t, side="right")) - 1
+        if j < 0:
+            return None
+        x, y, th = self.log.odom_poses[j]
+        return Odometry(stamp=float(self.log.odom_times[j]) + self.time_offset,
+                        pose=Pose2D(float(x), float(y), float(th)))
+
+    def send(self, cmd: Twist) -> None:
+        self.last_cmd = cmd
+
+    def battery(self) -> BatteryState | None:
+        return None
+
+    def events(self) -> BaseEvents:
+        return BaseEvents()
+
+
+class LogPlayback(RecordedBase):
     """Plays a ``CarmenLog`` on the executive's clock through the ``Base`` and ``Laser``
     interfaces: ``scan()`` and ``odometry()`` return the newest message stamped at or before
     ``clock.now()`` (log time plus ``time_offset``), or None before the first.
@@ -242,25 +274,6 @@ class LogPlayback:
         """Index of the newest scan at the clock's time, -1 before the first."""
         t = self._clock.now() - self.time_offset
         return int(np.searchsorted(self.log.scan_times, t, side="right")) - 1
-
-    # -- Base
-    def odometry(self) -> Odometry | None:
-        t = self._clock.now() - self.time_offset
-        j = int(np.searchsorted(self.log.odom_times, t, side="right")) - 1
-        if j < 0:
-            return None
-        x, y, th = self.log.odom_poses[j]
-        return Odometry(stamp=float(self.log.odom_times[j]) + self.time_offset,
-                        pose=Pose2D(float(x), float(y), float(th)))
-
-    def send(self, cmd: Twist) -> None:
-        self.last_cmd = cmd
-
-    def battery(self) -> BatteryState | None:
-        return None
-
-    def events(self) -> BaseEvents:
-        return BaseEvents()
 
     @property
     def finished(self) -> bool:
