@@ -50,6 +50,9 @@ class IsDetourLong(Condition):
             return FAILURE
         if goal != self._goal:
             self._goal, self._fired = goal, 0
+        limit = self.get_input("max_per_goal")
+        if limit > 0 and self._fired >= limit:
+            return FAILURE           # spent for this goal: no map-only plan for each replan
         if path is not self._path:   # judge each plan once
             self._path = path
             x, y, th = (float(v) for v in path.poses[0])
@@ -59,8 +62,7 @@ class IsDetourLong(Condition):
                 length, map_length, self.get_input("ratio"), self.get_input("min_extra"))
             self.say(f"plan {length:.2f} m, map-only "
                      f"{'none' if map_length is None else f'{map_length:.2f} m'}")
-        limit = self.get_input("max_per_goal")
-        if not self._verdict or (limit > 0 and self._fired >= limit):
+        if not self._verdict:
             return FAILURE
         self._fired += 1
         return yes(True)
