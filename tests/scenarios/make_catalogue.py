@@ -692,3 +692,22 @@ write("unknown_area_solid",
       expect:
         outcome: succeeded
       """, unknown="solid")
+
+# goal inside an obstacle the map does not know (issue 17, class 7)
+g = G(70, 34)
+write("goal_on_unseen_pallet",
+      "The goal lies just inside the edge of a pallet the map does not know (a drop-off point "
+      "that something now covers). Once the laser shows the pallet, the goal cell is lethal: the "
+      "robot must stop at the nearest free pose it can reach within 0.5 m of the goal (the "
+      "planners' default_tolerance idea; a tree reports the substitute on its blackboard), not "
+      "circle the pallet until the time limit or fail.", g, """
+      start: [0.8, 1.7, 0.0]
+      goals: [[4.1, 1.6, 0.0]]
+      objects:
+        - {box: [4.0, 1.0, 4.8, 2.3], name: pallet}
+      time_limit: 60
+      expect:
+        outcome: succeeded
+        final_pose: {of: [4.1, 1.6, 0.0], within: 0.75}   # the 0.5 m search + 0.25 m goal tolerance
+        max_time: 30
+      """)
