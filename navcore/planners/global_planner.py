@@ -19,7 +19,10 @@ until the goal's potential is final, in bands ``BAND_NEUTRALS`` x ``neutral_cost
 uses 2 x), no queue cap, buffers reused, the shared costmap is never
 written (``outline_map`` and the robot-cell clearing act on the planner's view only), the path
 ends with one goal pose (the C++ repeats the goal's position), and
-``default_tolerance`` is honoured (the C++ declares it and ignores it).
+``default_tolerance`` is honoured (the C++ declares it and ignores it). A robot whose cell it may
+not enter (inscribed or lethal cost) gets no plan but ``START_OCCUPIED`` (Nav2's error code), where
+the C++ clears that cell and plans from it; with ``old_navfn_behavior`` it does as navfn does and
+plans from it.
 """
 
 from __future__ import annotations
@@ -160,12 +163,17 @@ class GlobalPlanner:
             return PlanResult.failure(PlanReason.GOAL_OUTSIDE_MAP)
         gc = cm.world_to_map(goal.x, goal.y)
         nx, ny = cm.size_x, cm.size_y
-        ws = self._ws
-        ws.ensure(nx, ny)
         lethal, neutral = p.lethal_cost, p.neutral_cost
         lut, tables = _gp_tables(lethal, neutral, p.cost_factor, bool(p.allow_unknown))
+        ws = self._ws
+        ws.ensure(nx, ny)
         if cm.costs.dtype != np.uint8:
             raise TypeError(f"costmap costs must be uint8, got {cm.costs.dtype}")
+        sc = cm.world_to_map(start.x, start.y)
+        if not p.old_navfn_behavior and lut[cm.costs[sc[1], sc[0]]] >= lethal:
+            # the robot's cell is one it may not enter (inscribed or lethal): report it, as
+            # Nav2's planners do, instead of clearing the cell and planning from it (navfn)
+            return PlanResult.failure(PlanReason.START_OCCUPIED)
         costs = np.ascontiguousarray(cm.costs).reshape(-1)
         sx, sy = s
         band = BAND_NEUTRALS * neutral
