@@ -21,6 +21,8 @@ Keyword arguments of ``setup``:
 ``control_period``  float seconds, 1 / controller_frequency.
 ``route_graph``     navcore.route.RouteGraph or None (route_server.graph_filepath).
 ``route_path_density`` float m between poses of a route's path (route_server.path_density).
+``observed_space``  navcore.costmap.observed_space.ObservedSpace or None: when each cell near
+                    the robot was last seen free / occupied (independent of costmap clears).
 =================== ======================================================================
 """
 

@@ -99,7 +99,7 @@ def assemble(tree: LoadedTree | Any, tree_source: str, config: RobotConfig, grid
         localisation = Localisation(stack.localizer, mount)
     components = stack.components()
     perception = Perception({"local": stack.local_costmap, "global": stack.global_costmap},
-                            mount, localisation, world.phantoms)
+                            mount, localisation, world.phantoms, stack.observed_space)
     namespace = namespace or getattr(tree, "namespace", None)
     try:
         ex = Executive(tree, io, clock, config.control_period(), components,

@@ -5,6 +5,8 @@ its own filter updates by ``update_min_d`` / ``update_min_a``). ``CostmapSchedul
 each costmap is due at its ``update_frequency``. ``Perception`` feeds each new scan to both
 costmaps (``LayeredCostmap.queue_scan``: converted only when a costmap reads it), updates the
 costmaps that are due, and paints a scenario's phantom obstacles once after the first update.
+The observed-space memory (navcore.costmap.observed_space), when given, follows the robot every
+cycle: its body and each new scan are stamped into it, whatever the costmaps clear.
 """
 
 from __future__ import annotations
@@ -69,11 +71,13 @@ class Perception:
 
     ``costmaps`` in update order (local, then global); ``mount``: the laser on the base;
     ``localisation`` None means the pose comes from the robot I/O (simulator ground truth or
-    odometry); ``phantoms``: (shape, costmap name) pairs painted after the first update."""
+    odometry); ``phantoms``: (shape, costmap name) pairs painted after the first update;
+    ``observed``: the observed-space memory (an ObservedSpace) or None."""
 
     def __init__(self, costmaps: dict[str, Any], mount: Pose2D,
                  localisation: Localisation | None = None,
-                 phantoms: list[tuple[Shape, str]] | None = None) -> None:
+                 phantoms: list[tuple[Shape, str]] | None = None,
+                 observed: Any = None) -> None:
         self.costmaps = costmaps
         self._ordered = list(costmaps.values())
         self.mount = mount
@@ -81,6 +85,7 @@ class Perception:
         self.schedule = CostmapSchedule(self._ordered)
         self._phantoms = list(phantoms or [])
         self._last_scan: LaserScan | None = None
+        self.observed = observed
 
     def estimate(self, odom: Odometry | None, scan: LaserScan | None) -> Pose2D | None:
         """The localiser's pose, or None when there is none (the executive falls back)."""
@@ -89,12 +94,16 @@ class Perception:
         return self.localisation.estimate(odom, scan)
 
     def perceive(self, pose: Pose2D, scan: LaserScan | None, now: float) -> None:
-        """Give a new scan to every costmap and update the costmaps that are due."""
-        if scan is not None and scan is not self._last_scan:
+        """Give a new scan to every costmap and the observed-space memory, and update the
+        costmaps that are due."""
+        new_scan = scan is not None and scan is not self._last_scan
+        laser_pose = pose.compose(self.mount)
+        if new_scan:
             self._last_scan = scan
-            laser_pose = pose.compose(self.mount)
             for cm in self._ordered:
                 cm.queue_scan(scan, laser_pose)
+        if self.observed is not None:
+            self.observed.update(pose, scan if new_scan else None, laser_pose, now)
         for i, cm in enumerate(self._ordered):
             if self.schedule.take(i, now):
                 cm.update_map(pose)

@@ -67,6 +67,17 @@ def build_amcl(config: RobotConfig, grid: OccupancyGrid, start: Pose2D | None,
     return Amcl(grid, params, rng)
 
 
+def build_observed_space(config: RobotConfig, local_cm: Any) -> Any:
+    """The short-term memory of observed space (navcore.costmap.observed_space): a window twice
+    the local costmap's width and height at its resolution; motions are checked with the
+    robot's own footprint, the body frees the local costmap's (padded) one."""
+    from navcore.costmap.observed_space import ObservedSpace
+    grid = local_cm.costmap
+    res = grid.resolution
+    return ObservedSpace.around(res, 2.0 * grid.size_x * res, 2.0 * grid.size_y * res,
+                                config.footprint(), local_cm.footprint)
+
+
 def build_route_graph(config: RobotConfig) -> Any:
     """The route graph of ``route_server.graph_filepath`` (None when not configured). A
     relative path is looked up beside the config file, then among the bundled maps."""
@@ -101,6 +112,7 @@ class Stack:
     controller: Any
     localizer: Any = None
     route_graph: Any = None  # navcore.route.RouteGraph when route_server.graph_filepath is set
+    observed_space: Any = None  # navcore.costmap.observed_space.ObservedSpace
 
     @classmethod
     def from_config(cls, config: RobotConfig, grid: OccupancyGrid, clock: Clock) -> Stack:
@@ -112,7 +124,8 @@ class Stack:
         except ImportError as e:
             raise WiringError(f"component not available: {e}") from None
         return cls(config, global_cm, local_cm, planner, controller,
-                   route_graph=build_route_graph(config))
+                   route_graph=build_route_graph(config),
+                   observed_space=build_observed_space(config, local_cm))
 
     def add_localizer(self, grid: OccupancyGrid, start: Pose2D | None,
                       rng: np.random.Generator) -> None:
@@ -146,6 +159,7 @@ class Stack:
             "localizer": self.localizer,
             "parameters": self.parameters(),
             "route_graph": self.route_graph,
+            "observed_space": self.observed_space,
             "route_path_density": float(self.config.ns("route_server").get("path_density",
                                                                              0.05)),
         }

@@ -4,7 +4,9 @@ table from the planners' and controllers' results to them.
 Values follow Nav2's action definitions (nav2_msgs/action: ComputePathToPose 2xx, FollowPath 1xx,
 ComputeRoute 4xx, SmoothPath 5xx, Spin 70x, BackUp 71x, DriveOnHeading 72x, Wait 74x), so a Nav2 user's ``error_codes_to_check``
 lists mean the same here; 0 is success. navbt's own recoveries (TemporaryGoal,
-BackOffToPreviousPose) use 80x. A bug is none of these: it raises, and the
+BackOffToPreviousPose) use 80x. ``UNOBSERVED_SPACE`` (x9 of each motion recovery's range, 812 for
+navbt's own) is navbt's, not Nav2's: the motion would enter space the sensors have not seen free
+recently (navcore.costmap.observed_space). A bug is none of these: it raises, and the
 executive ends the mission with INTERNAL_ERROR (no recovery branch ever sees it).
 """
 
@@ -80,6 +82,7 @@ class SpinError(IntEnum):
     TIMEOUT = 701
     TF_ERROR = 702
     COLLISION_AHEAD = 703
+    UNOBSERVED_SPACE = 709    # navbt: the sweep reaches space not observed free recently
 
 
 class BackUpError(IntEnum):
@@ -91,6 +94,7 @@ class BackUpError(IntEnum):
     TF_ERROR = 712
     INVALID_INPUT = 713
     COLLISION_AHEAD = 714
+    UNOBSERVED_SPACE = 719    # navbt: the way back was not observed free recently
 
 
 class DriveOnHeadingError(IntEnum):
@@ -102,6 +106,7 @@ class DriveOnHeadingError(IntEnum):
     TF_ERROR = 722
     COLLISION_AHEAD = 723
     INVALID_INPUT = 724
+    UNOBSERVED_SPACE = 729    # navbt: the way was not observed free recently
 
 
 class WaitError(IntEnum):
@@ -122,6 +127,7 @@ class RecoveryError(IntEnum):
     INVALID_INPUT = 804
     NO_FREE_POSE = 810        # TemporaryGoal: nothing reachable and free nearby
     NO_POSE_HISTORY = 811     # BackOffToPreviousPose: the robot has not moved yet
+    UNOBSERVED_SPACE = 812    # the way was not observed free recently
 
 
 # The one table: a planner's reason -> the code ComputePathToPose writes.

@@ -70,3 +70,15 @@ def test_a_plain_string_reason_finds_its_code():
     # planners from elsewhere (tests' scripted ones) may return the text: same code
     assert PLAN_CODES["no_path"] is PlannerError.NO_VALID_PATH
     assert CONTROL_CODES["no_valid_trajectory"] is ControllerError.NO_VALID_CONTROL
+
+
+def test_unobserved_space_is_navbt_s_code_in_each_motion_recovery_range():
+    # not Nav2's: the last code of each behaviour's range, navbt's own recoveries' 81x
+    assert (SpinError.UNOBSERVED_SPACE, BackUpError.UNOBSERVED_SPACE,
+            DriveOnHeadingError.UNOBSERVED_SPACE, RecoveryError.UNOBSERVED_SPACE) == (
+                709, 719, 729, 812)
+    # written by the nodes (BackUp and DriveOnHeading through their shared ERRORS table)
+    assert SpinError.UNOBSERVED_SPACE in emitted("behaviors", SpinError)
+    assert RecoveryError.UNOBSERVED_SPACE in emitted("behaviors", RecoveryError)
+    source = (ROOT / "behaviors/actions/drive_on_heading.py").read_text()
+    assert "self.ERRORS.UNOBSERVED_SPACE" in source

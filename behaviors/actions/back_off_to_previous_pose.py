@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
+                                              OBSERVED_IN, UNOBSERVED)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.motion.geometry import heading_to
@@ -18,9 +19,10 @@ class BackOffToPreviousPose(RecoveryAction):
     footprint in inscribed cost (half-way out of a dead end, say), the target moves further
     back along the trail to the first free pose, at most ``max_distance`` metres back. The
     robot pursues the trail in reverse (pure pursuit with negative speed, ``lookahead`` m),
-    footprint-checked ahead (leaving inscribed cost is allowed). SUCCESS within
-    ``xy_goal_tolerance`` of the target; FAILURE: NO_POSE_HISTORY, COLLISION_AHEAD, TIMEOUT
-    (``time_allowance`` spent, or no progress as in TemporaryGoal).
+    footprint-checked ahead (leaving inscribed cost is allowed) and only into space observed free
+    within ``observed_within`` s. SUCCESS within ``xy_goal_tolerance`` of the target; FAILURE:
+    NO_POSE_HISTORY, COLLISION_AHEAD, UNOBSERVED_SPACE, TIMEOUT (``time_allowance`` spent, or no
+    progress as in TemporaryGoal).
     """
 
     INPUT_PORTS = {
@@ -35,6 +37,7 @@ class BackOffToPreviousPose(RecoveryAction):
         "time_allowance": Port(float, False, "s before giving up", 20.0, low=0.0),
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 1.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
         "pose_history": PortInformation(list, False, "Pose2D trail, oldest first"),
         "required_movement_radius": Port(float, False, "progress radius, m", 0.1, low=0.0),
         "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
@@ -74,8 +77,13 @@ class BackOffToPreviousPose(RecoveryAction):
         if cmd is None:
             assert hit is not None
             self.stop_motion()
-            self.report(RecoveryError.COLLISION_AHEAD,
-                        f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
+            if hit[1] == UNOBSERVED:
+                self.report(RecoveryError.UNOBSERVED_SPACE,
+                            f"not observed free within {self.get_input('observed_within')} s: "
+                            f"{hit[0].distance_to(pose):.2f} m away")
+            else:
+                self.report(RecoveryError.COLLISION_AHEAD,
+                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m away")
             return FAILURE
         self.write("cmd_vel", cmd)
         self.say("{:.2f} m to the previous pose (heading {:.2f})", pose.distance_to(target),

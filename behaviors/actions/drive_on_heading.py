@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
+                                              OBSERVED_IN)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import BackUpError, DriveOnHeadingError
 from navcore.types import Pose2D, Twist
@@ -16,7 +17,9 @@ class DriveOnHeading(RecoveryAction):
 
     RUNNING while driving; SUCCESS when the distance is covered; FAILURE on ``time_allowance``
     (TIMEOUT), on a lethal cell under the footprint (or newly inscribed cost) within
-    ``simulate_ahead_time`` s of travel (COLLISION_AHEAD), or when distance and speed have different signs (INVALID_INPUT).
+    ``simulate_ahead_time`` s of travel (COLLISION_AHEAD), on space there that the sensors have
+    not seen free within ``observed_within`` s (UNOBSERVED_SPACE: behind the laser's field of
+    view, say), or when distance and speed have different signs (INVALID_INPUT).
     """
 
     INPUT_PORTS = {
@@ -25,6 +28,7 @@ class DriveOnHeading(RecoveryAction):
         "time_allowance": Port(float, False, "s before giving up", 10.0, low=0.0),
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "drive_on_heading_error_code"}
@@ -60,13 +64,20 @@ class DriveOnHeading(RecoveryAction):
         if not self.get_input("disable_collision_checks"):
             ahead = min(remaining, abs(speed) * self.get_input("simulate_ahead_time"))
             n = max(1, int(math.ceil(ahead / 0.05)))
-            poses = (pose.compose(Pose2D(direction * ahead * k / n, 0.0, 0.0))
-                     for k in range(1, n + 1))
+            poses = [pose.compose(Pose2D(direction * ahead * k / n, 0.0, 0.0))
+                     for k in range(1, n + 1)]
             hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
                 self.report(self.ERRORS.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
+                return FAILURE
+            blind = self.first_unobserved(poses, pose)
+            if blind is not None:
+                self.stop_motion()
+                self.report(self.ERRORS.UNOBSERVED_SPACE,
+                            f"not observed free within {self.get_input('observed_within')} s: "
+                            f"{blind[1]:.2f} m ahead")
                 return FAILURE
         self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
         self.say("drove {:.2f} of {:.2f} m", travelled, abs(dist))
@@ -83,6 +94,7 @@ class BackUp(DriveOnHeading):
         "time_allowance": Port(float, False, "s before giving up", 10.0, low=0.0),
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
     }
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "backup_error_code"}
     ERRORS = BackUpError

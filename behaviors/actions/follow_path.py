@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
+
+import numpy as np
 
 from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortInformation, Status
 from navcore.controllers.progress import ProgressChecker
 from navcore.controllers.result import ControlStatus
 from navcore.error_codes import CONTROL_CODES, ControllerError
+from navcore.controllers.rotation_shim import RotationShim, ShimParams
 from navcore.path_ops import TrackingFeedback, tracking_feedback
 from navcore.types import Path, Pose2D, Twist
+
+SHIM = ShimParams()  # Nav2's defaults
 
 
 class FollowPath(Leaf):
@@ -23,6 +29,12 @@ class FollowPath(Leaf):
       ``failure_tolerance`` s; within it the robot gets zero and the node keeps trying),
       FAILED_TO_MAKE_PROGRESS (moved less than ``required_movement_radius`` m in
       ``movement_time_allowance`` s; 0 disables, Nav2's SimpleProgressChecker).
+    * ``rotate_to_heading``: Nav2's RotationShimController in front of the controller
+      (navcore.controllers.rotation_shim): on each new path, while the path ahead
+      (``forward_sampling_distance``) is more than ``angular_dist_threshold`` off the heading,
+      turn on the spot at ``rotate_to_heading_angular_vel`` (``max_angular_accel``) instead of
+      asking the controller, which could follow it backwards; a turn whose footprint hits the
+      local costmap within ``simulate_ahead_time`` s counts as no valid command.
     """
 
     INPUT_PORTS = {
@@ -35,6 +47,18 @@ class FollowPath(Leaf):
         "required_movement_radius": Port(float, False, "progress radius, m", 0.5, low=0.0),
         "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
                                                    10.0, low=0.0),
+        "rotate_to_heading": PortInformation(bool, False, "turn to a new path's heading first "
+                                                          "(RotationShimController)", False),
+        "angular_dist_threshold": Port(float, False, "rad off the path ahead that makes it turn",
+                                       SHIM.angular_dist_threshold, low=0.0, high=math.pi),
+        "forward_sampling_distance": Port(float, False, "m along the path to aim at",
+                                          SHIM.forward_sampling_distance, low=0.0),
+        "rotate_to_heading_angular_vel": Port(float, False, "rad/s of the turn",
+                                              SHIM.rotate_to_heading_angular_vel, low=0.0),
+        "max_angular_accel": Port(float, False, "rad/s^2 of the turn", SHIM.max_angular_accel,
+                                  low=0.0),
+        "simulate_ahead_time": Port(float, False, "s of the turn footprint-checked",
+                                    SHIM.simulate_ahead_time, low=0.0),
     }
     OUTPUT_PORTS = {
         "cmd_vel": PortInformation(Twist, True, "velocity command for this tick"),
@@ -51,7 +75,10 @@ class FollowPath(Leaf):
         self.clock = self.component(kwargs, "clock")
         self.robot = self.component(kwargs, "robot")
         self.controllers = self.component(kwargs, "controllers")
+        self.local_costmap = kwargs.get("local_costmap")
+        self.control_period = float(kwargs.get("control_period") or 0.05)
         self._progress = ProgressChecker()
+        self._shim = RotationShim()
 
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
              literals: dict[str, Any] | None = None) -> None:
@@ -85,7 +112,13 @@ class FollowPath(Leaf):
         if path is not self._plan:
             self._controller.set_plan(path)
             self._plan = path
+            self._plan_poses = np.asarray(path.poses, dtype=np.float64).reshape(-1, 3)
+            self._shim.new_path()
         now, pose = self.clock.now(), self.robot.pose()
+        if self.get_input("rotate_to_heading"):
+            turn = self._rotate_to_heading(pose, now)
+            if turn is not None:
+                return turn
         result = self._controller.compute_velocity(pose, self.robot.velocity())
         if result.status == ControlStatus.GOAL_REACHED or self._controller.is_goal_reached():
             self.write("cmd_vel", Twist.zero())
@@ -116,6 +149,31 @@ class FollowPath(Leaf):
                              f"{self.get_input('movement_time_allowance')} s")
         self.write("cmd_vel", result.cmd)
         self.say("{}: vx {:.2f} wz {:.2f}", result.status, result.cmd.vx, result.cmd.wz)
+        return RUNNING
+
+    def _rotate_to_heading(self, pose: Pose2D, now: float) -> Status | None:
+        """The shim's tick: RUNNING (turning, or blocked within ``failure_tolerance``), FAILURE
+        (blocked for longer), None when the controller drives."""
+        p = ShimParams(*(self.get_input(k) for k in (
+            "angular_dist_threshold", "forward_sampling_distance",
+            "rotate_to_heading_angular_vel", "max_angular_accel", "simulate_ahead_time")))
+        cmd, hit = self._shim.command(pose, self._plan_poses, self.robot.velocity().wz,
+                                      self.control_period, p, self.local_costmap)
+        if cmd is not None:
+            self._last_valid = now
+            self.write("cmd_vel", cmd)
+            self.say("rotating to the path's heading: wz {:.2f}", cmd.wz)
+            return RUNNING
+        if hit is None:
+            return None
+        tolerance = self.get_input("failure_tolerance")
+        if tolerance >= 0.0 and now - self._last_valid >= tolerance:
+            code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
+                    else ControllerError.NO_VALID_CONTROL)
+            return self.fail(code, f"turn to the path's heading blocked for "
+                                   f"{now - self._last_valid:.1f} s")
+        self.write("cmd_vel", Twist.zero())
+        self.say("turn to the path's heading blocked, trying again")
         return RUNNING
 
     def _stalled(self, pose: Pose2D, now: float) -> bool:

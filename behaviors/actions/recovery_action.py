@@ -4,7 +4,11 @@ semantics), and the guide's extra SMACH-style ones, TemporaryGoal and BackOffToP
 Motion recoveries write ``cmd_vel`` one control period at a time, check the robot footprint on
 the costmap (``footprint_cost``) along the motion ahead, and fail with COLLISION_AHEAD rather than
 drive into a lethal cell or from free space into inscribed cost (a robot already in inscribed
-cost may move through it to get out). Every exit (finished or interrupted) leaves a zero command.
+cost may move through it to get out). They also move only into space the sensors saw free within
+``observed_within`` seconds (the ``observed_space`` memory, which costmap clears do not erase):
+a costmap just cleared says "free" for cells that were only forgotten, and a laser that cannot
+see behind the robot never saw the way back. Without that component there is nothing to check.
+Every exit (finished or interrupted) leaves a zero command.
 """
 
 from __future__ import annotations
@@ -12,7 +16,7 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import Any, Iterable
 
-from behaviors.base import INVALID, RUNNING, Leaf, PortInformation, Recovery, Status
+from behaviors.base import INVALID, RUNNING, Leaf, Port, PortInformation, Recovery, Status
 from navcore.controllers.progress import ProgressChecker
 from navcore.motion.collision import first_collision
 from navcore.motion.pursuit import pure_pursuit, swept_poses
@@ -20,6 +24,22 @@ from navcore.types import Pose2D, Twist
 
 
 COSTMAP_CHOICES = ("local", "global", "both")
+
+# the "cost" ``pursue`` reports for a way not observed free recently (no costmap value)
+UNOBSERVED = -2
+
+# s: space seen free this recently counts as free for a motion recovery. Long enough for a
+# recovery that follows a full-turn Spin (about 8 s) to use what the turn saw; short enough that
+# a person or a cart is unlikely to have moved into the space since.
+OBSERVED_WITHIN = 10.0
+
+OBSERVED_IN = {
+    "observed_within": Port(float, False, "s: move only into space the sensors saw free this "
+                                          "recently (observed_space memory); 0 = no check",
+                            OBSERVED_WITHIN, low=0.0),
+    "allow_unknown": PortInformation(bool, False, "also move into space never seen (or seen "
+                                                  "free long ago), never into space last seen "
+                                                  "occupied: a last resort", False)}
 
 
 class RecoveryAction(Recovery, Leaf):
@@ -35,6 +55,7 @@ class RecoveryAction(Recovery, Leaf):
         self.clock = self.component(kwargs, "clock")
         self.robot = self.component(kwargs, "robot", optional=not self.NEEDS_ROBOT)
         self.costmaps = {"local": kwargs.get("local_costmap"), "global": kwargs.get("global_costmap")}
+        self.observed = kwargs.get("observed_space")
         self.control_period = float(kwargs.get("control_period") or 0.05)
         self._progress = ProgressChecker()
 
@@ -61,11 +82,30 @@ class RecoveryAction(Recovery, Leaf):
         handle = self.collision_map()
         return None if handle is None else first_collision(handle, poses, start)
 
+    def first_unobserved(self, poses: Iterable[Pose2D], start: Pose2D
+                         ) -> tuple[Pose2D, float] | None:
+        """The first of ``poses`` whose footprint reaches space (outside the robot's footprint at
+        ``start``) not observed free within ``observed_within`` s, and how far that is from
+        ``start``; None when all of it was, or without the port, a memory or a window > 0."""
+        if self.observed is None or "observed_within" not in self.INPUT_PORTS:
+            return None
+        within = self.get_input("observed_within")
+        if within <= 0.0:
+            return None
+        poses = list(poses)
+        found = self.observed.first_unobserved(poses, start, self.clock.now() - within,
+                                               self.get_input("allow_unknown"))
+        if found is None:
+            return None
+        p = poses[found[0]]
+        return p, p.distance_to(start)
+
     def pursue(self, pose: Pose2D, trail: list[Pose2D], index: int, target: Pose2D,
                speed: float, lookahead: float, w_max: float
                ) -> tuple[Twist | None, int, tuple[Pose2D, int] | None]:
         """One pure-pursuit step (``navcore.motion.pursuit``): (the command, or None if
-        blocked; the new trail index; the blocking pose and cost). Footprint-checked over
+        blocked; the new trail index; the blocking pose and cost, where the cost is -2 when the
+        way was not observed free within ``observed_within``). Checked over
         ``simulate_ahead_time`` unless ``disable_collision_checks``."""
         cmd, index = pure_pursuit(pose, trail, index, target, speed, lookahead, w_max,
                                   self.control_period)
@@ -74,6 +114,9 @@ class RecoveryAction(Recovery, Leaf):
             hit = self.first_collision(poses, pose)
             if hit is not None:
                 return None, index, hit
+            blind = self.first_unobserved(poses, pose)
+            if blind is not None:
+                return None, index, (blind[0], UNOBSERVED)
         return cmd, index, None
 
     def start_progress_check(self, pose: Pose2D) -> None:

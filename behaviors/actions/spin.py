@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
+                                              OBSERVED_IN)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import SpinError
 from navcore.types import Pose2D, Twist, angle_diff
@@ -18,7 +19,9 @@ class Spin(RecoveryAction):
     is within ``yaw_goal_tolerance`` of the target; FAILURE (``error_code_id``) when
     ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell (or enter
     inscribed cost) within the next ``simulate_ahead_time`` seconds of turning
-    (COLLISION_AHEAD). A new run counts from zero.
+    (COLLISION_AHEAD), or when the footprint would sweep (outside where it stands: the corners of a
+    non-round robot) into space not observed free within ``observed_within`` s
+    (UNOBSERVED_SPACE). A new run counts from zero.
     """
 
     INPUT_PORTS = {
@@ -31,6 +34,7 @@ class Spin(RecoveryAction):
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 2.0, low=0.0),
         "sim_granularity": Port(float, False, "collision check step, rad", 0.017, low=0.001),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "spin_error_code"}
@@ -65,13 +69,20 @@ class Spin(RecoveryAction):
             ahead = min(remaining, w * self.get_input("simulate_ahead_time"))
             step = max(self.get_input("sim_granularity"), ahead / 20.0)
             n = max(1, int(math.ceil(ahead / step)))
-            poses = (Pose2D(pose.x, pose.y, pose.theta + sign * ahead * k / n)
-                     for k in range(1, n + 1))
+            poses = [Pose2D(pose.x, pose.y, pose.theta + sign * ahead * k / n)
+                     for k in range(1, n + 1)]
             hit = self.first_collision(poses, pose)
             if hit is not None:
                 self.stop_motion()
                 self.report(SpinError.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
+                return FAILURE
+            blind = self.first_unobserved(poses, pose)
+            if blind is not None:
+                self.stop_motion()
+                self.report(SpinError.UNOBSERVED_SPACE,
+                            f"sweep not observed free within "
+                            f"{self.get_input('observed_within')} s at yaw {blind[0].theta:.2f}")
                 return FAILURE
         self._w = sign * w
         self.write("cmd_vel", Twist(0.0, 0.0, self._w))

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.actions.recovery_action import RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT
+from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
+                                              OBSERVED_IN, UNOBSERVED)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.motion.escape import arc_goal, rank_candidates
 from navcore.motion.geometry import ring_candidates
+from navcore.motion.pursuit import swept_poses
 from navcore.types import Pose2D, Twist
 
 
@@ -25,9 +27,11 @@ class TemporaryGoal(RecoveryAction):
     and tried in that order, at most ``max_plans_per_tick`` planner calls per tick, until one
     has a plan. The controller then follows the plan; if it finds no valid command (its
     footprint already in inflated cost, say), the node drives there itself by pure pursuit at
-    ``escape_speed``, footprint-checked. SUCCESS when the goal is reported reached or the robot
-    is within ``xy_goal_tolerance``. FAILURE: NO_FREE_POSE, COLLISION_AHEAD (no valid command
-    and the own pursuit is blocked too), TIMEOUT (``time_allowance`` spent, or no progress of
+    ``escape_speed``, footprint-checked. Arcs, the own pursuit and any backwards command of the
+    controller keep to space observed free within ``observed_within`` s. SUCCESS when the goal
+    is reported reached or the robot is within ``xy_goal_tolerance``. FAILURE: NO_FREE_POSE,
+    COLLISION_AHEAD (no valid command and the own pursuit is blocked too), UNOBSERVED_SPACE
+    (the way there was not observed free recently), TIMEOUT (``time_allowance`` spent, or no progress of
     ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
     the chosen pose.
     """
@@ -55,6 +59,7 @@ class TemporaryGoal(RecoveryAction):
         "max_rotational_vel": Port(float, False, "own pursuit, rad/s", 1.0, low=0.0),
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 1.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
         "required_movement_radius": Port(float, False, "progress radius, m", 0.1, low=0.0),
         "movement_time_allowance": Port(float, False, "s to make progress; 0 = off",
                                                    5.0, low=0.0),
@@ -93,9 +98,12 @@ class TemporaryGoal(RecoveryAction):
 
     def _arc_goal(self, pose: Pose2D) -> Pose2D | None:
         goal = self.read("goal")
+        within = self.get_input("observed_within")
+        observed = self.observed if within > 0.0 else None
         return arc_goal(self._scoring_map(), self.collision_map(), pose,
                         self._candidates_around(pose), goal if isinstance(goal, Pose2D) else None,
-                        not self.get_input("disable_collision_checks"))
+                        not self.get_input("disable_collision_checks"), observed,
+                        self.clock.now() - within, self.get_input("allow_unknown"))
 
     def update(self) -> Status:
         pose = self.robot.pose()
@@ -163,6 +171,16 @@ class TemporaryGoal(RecoveryAction):
             return FAILURE
         if result is not None and not result.status.startswith("no_valid"):
             cmd = result.cmd
+            if cmd.vx < 0.0 and not self.get_input("disable_collision_checks"):
+                # the controller may reverse (min_vel_x < 0): only into space seen free
+                blind = self.first_unobserved(
+                    swept_poses(pose, cmd.vx, cmd.wz, self.get_input("simulate_ahead_time")), pose)
+                if blind is not None:
+                    self.stop_motion()
+                    self.report(RecoveryError.UNOBSERVED_SPACE,
+                                f"controller reverses into space not observed free: "
+                                f"{blind[1]:.2f} m away")
+                    return FAILURE
         else:
             # One arc chosen, or the controller refuses to move from here (its footprint
             # already touches inflated cost, say): drive with our own footprint-checked
@@ -183,8 +201,12 @@ class TemporaryGoal(RecoveryAction):
                 return RUNNING
             if own is None:
                 self.stop_motion()
-                why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
                 status = result.status if result is not None else "one arc"
+                if hit is not None and hit[1] == UNOBSERVED:
+                    self.report(RecoveryError.UNOBSERVED_SPACE,
+                                f"controller: {status}; the way was not observed free")
+                    return FAILURE
+                why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
                 self.report(RecoveryError.COLLISION_AHEAD, f"controller: {status}; {why}")
                 return FAILURE
             self._own, cmd = True, own

@@ -44,10 +44,13 @@ def rank_candidates(handle: Any, pose: Pose2D, candidates: list[Pose2D]) -> list
 
 
 def arc_goal(handle: Any, collision: Any, pose: Pose2D, candidates: list[Pose2D],
-             goal: Pose2D | None, check_collisions: bool = True) -> Pose2D | None:
+             goal: Pose2D | None, check_collisions: bool = True, observed: Any = None,
+             since: float = -math.inf, allow_unknown: bool = False) -> Pose2D | None:
     """The best pose one arc away (forwards or backwards, turning at most 90 degrees) toward
-    one of ``candidates``, whose footprint is free at the arc's end and clear all along it;
-    None if there is none. Ranked by openness at the end (in tenths of the inscribed cost),
+    one of ``candidates``, whose footprint is free at the arc's end and clear all along it
+    (and, given an ``observed`` space memory, all along it on space observed free since
+    ``since``, or with ``allow_unknown`` on space not last seen occupied); None if there is
+    none. Ranked by openness at the end (in tenths of the inscribed cost),
     then by the distance left to ``goal`` (tenths of a metre; when one is known), then arc
     length; of the first few clear arcs, the one that keeps farthest from lethal cells."""
     ends = []
@@ -72,6 +75,9 @@ def arc_goal(handle: Any, collision: Any, pose: Pose2D, candidates: list[Pose2D]
     for _, _, _, end, c in ends:
         arc = arc_poses(pose, c.x, c.y, ARC_SEARCH_STEP) or []
         if collision is not None and first_collision(collision, arc, pose) is not None:
+            continue
+        if observed is not None and observed.first_unobserved(arc, pose, since,
+                                                              allow_unknown) is not None:
             continue
         gaps = clearances(handle, arc) if handle is not None else None
         gap = min(float(np.min(gaps)), ARC_GAP_ENOUGH) if gaps is not None else 0.0

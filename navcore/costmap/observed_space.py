@@ -1,0 +1,380 @@
+"""Observed space: a short-term memory of the cells the robot's sensors saw free or occupied, and
+when, kept apart from the costmaps (a costmap clear does not erase it).
+
+A motion that reverses into the laser's blind sector drives into space nobody looked at: right
+after a clear the costmap says "free" for cells that only mean "forgotten". This grid answers the
+other question, "was this cell *seen* free within the last T seconds?". Each laser beam stamps
+the time on every cell it crosses (free) and on the cell it ends in (occupied); every cycle the
+cells under the robot's padded footprint are stamped free and forget any occupied stamp, as the
+costmaps' footprint clearing frees them (the body is there; range noise near it is not an
+obstacle). A cell is observed
+free when its newest stamp is a free one no older than T (a beam that ended in it in the same scan
+wins: occupied). Cells no beam reached (behind a 240-degree laser, say) stay unknown.
+
+The grid is a rolling window around the robot on the world lattice, so it keeps what it saw
+while the robot moves inside it. The ray walk is costmap_2d's (``raytrace_line``, the obstacle
+layer's clearing walk), clipped to the window with ``navcore.raycast``'s slab clip; which cells a
+footprint meets is ``navcore.costmap.footprint``'s exact square-polygon test.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from navcore.costmap.costmap2d import _fill_convex_cells, shift_grid
+from navcore.costmap.footprint import _place, _square_meets_polygon, parse_footprint
+from navcore.costmap.obstacle_layer import raytrace_line
+from navcore.raycast import _clip_to_grid
+from navcore.types import LaserScan, Pose2D
+
+NEVER = -np.inf  # the stamp of a cell never observed
+
+
+@njit(cache=True, nogil=True)
+def stamp_scan(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y: float,
+               resolution: float, ox: float, oy: float, angles: np.ndarray, ranges: np.ndarray,
+               range_min: float, range_max: float, now: float) -> int:
+    """Stamp ``now`` on the cells each beam from the laser at (ox, oy) crosses (``free``) and on
+    the cell a beam ends in when it hit something inside the grid (``occupied``).
+
+    ``angles`` are world beam angles. A NaN reading or one below ``range_min`` is skipped; inf or
+    at least ``range_max`` means nothing within ``range_max``: the beam clears that far. Rays are
+    clipped to the grid. Returns the beams used (0 when the laser is off the grid)."""
+    h, w = free.shape
+    gx = (ox - origin_x) / resolution
+    gy = (oy - origin_y) / resolution
+    if not (0.0 <= gx < w and 0.0 <= gy < h):
+        return 0
+    x0 = int(gx)
+    y0 = int(gy)
+    n = 0
+    for i in range(angles.shape[0]):
+        r = ranges[i]
+        if not r >= range_min:  # NaN too
+            continue
+        hit = r < range_max
+        length = r if hit else range_max
+        dx = math.cos(angles[i])
+        dy = math.sin(angles[i])
+        t_end = length / resolution
+        t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
+        if t0 > t1:
+            continue
+        inside = hit and t1 >= t_end  # the end point lies in the grid
+        # a range is where the beam enters the obstacle's cell: a hair further is inside it
+        t = t_end + 1e-6 if inside else t1 - 1e-9
+        x1 = min(max(int(math.floor(gx + t * dx)), 0), w - 1)
+        y1 = min(max(int(math.floor(gy + t * dy)), 0), h - 1)
+        raytrace_line(free, x0, y0, x1, y1, w + h, now)
+        if inside:
+            occupied[y1, x1] = now
+        n += 1
+    return n
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _point_in_polygon(footprint: np.ndarray, x: float, y: float, c: float, s: float,
+                      origin_x: float, origin_y: float, inv: float, u: float, v: float) -> bool:
+    """Whether the point (u, v) (cell units) lies inside the footprint placed at the pose (even-odd
+    rule, as the corner test of ``_square_meets_polygon``)."""
+    n = footprint.shape[0]
+    inside = False
+    au, av = _place(footprint[n - 1, 0], footprint[n - 1, 1], x, y, c, s, origin_x, origin_y, inv)
+    for k in range(n):
+        bu, bv = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+        if (av <= v) != (bv <= v):
+            if au + (v - av) * (bu - au) / (bv - av) > u:
+                inside = not inside
+        au, av = bu, bv
+    return inside
+
+
+@njit(cache=True, nogil=True)
+def _square_inside(footprint: np.ndarray, x: float, y: float, c: float, s: float,
+                   origin_x: float, origin_y: float, inv: float, i: int, j: int) -> bool:
+    """Whether the whole cell square [i, i+1] x [j, j+1] lies under the footprint at the pose
+    (its four corners inside: exact for a convex footprint)."""
+    for corner in range(4):
+        if not _point_in_polygon(footprint, x, y, c, s, origin_x, origin_y, inv,
+                                 i + (corner & 1), j + (corner >> 1)):
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _cell_box(footprint: np.ndarray, x: float, y: float, c: float, s: float, origin_x: float,
+              origin_y: float, inv: float) -> tuple[int, int, int, int]:
+    """The cells (i0, j0, i1, j1), inclusive, of the bounding box of the placed footprint."""
+    u0 = v0 = 1e300
+    u1 = v1 = -1e300
+    for k in range(footprint.shape[0]):
+        u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+        u0, u1 = min(u0, u), max(u1, u)
+        v0, v1 = min(v0, v), max(v1, v)
+    return (int(math.floor(u0)), int(math.floor(v0)), int(math.floor(u1)), int(math.floor(v1)))
+
+
+@njit(cache=True, nogil=True)
+def _place_all(footprint: np.ndarray, x: float, y: float, theta: float, origin_x: float,
+               origin_y: float, inv: float) -> np.ndarray:
+    """The footprint's vertices at the pose, in cell units (N, 2)."""
+    c = math.cos(theta)
+    s = math.sin(theta)
+    out = np.empty((footprint.shape[0], 2))
+    for k in range(footprint.shape[0]):
+        out[k, 0], out[k, 1] = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x,
+                                      origin_y, inv)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _clip_square(poly: np.ndarray, i: int, j: int, a: np.ndarray, b: np.ndarray) -> int:
+    """Clip the cell square [i, i+1] x [j, j+1] to the convex counter-clockwise polygon ``poly``
+    (Sutherland-Hodgman); the vertices land in ``a`` (scratch ``b``, both (4 + N + 1, 2)).
+    Returns their count (0: no overlap)."""
+    a[0, 0], a[0, 1] = i, j
+    a[1, 0], a[1, 1] = i + 1.0, j
+    a[2, 0], a[2, 1] = i + 1.0, j + 1.0
+    a[3, 0], a[3, 1] = i, j + 1.0
+    m = 4
+    n = poly.shape[0]
+    for e in range(n):
+        ax, ay = poly[e - 1, 0], poly[e - 1, 1]
+        ex, ey = poly[e, 0] - ax, poly[e, 1] - ay
+        k = 0
+        qx, qy = a[m - 1, 0], a[m - 1, 1]
+        dq = ex * (qy - ay) - ey * (qx - ax)
+        for v in range(m):
+            px, py = a[v, 0], a[v, 1]
+            dp = ex * (py - ay) - ey * (px - ax)
+            if (dp >= 0.0) != (dq >= 0.0):  # the side q -> p crosses the edge's line
+                t = dq / (dq - dp)
+                b[k, 0], b[k, 1] = qx + t * (px - qx), qy + t * (py - qy)
+                k += 1
+            if dp >= 0.0:
+                b[k, 0], b[k, 1] = px, py
+                k += 1
+            qx, qy, dq = px, py, dp
+        for v in range(k):
+            a[v, 0], a[v, 1] = b[v, 0], b[v, 1]
+        m = k
+        if m == 0:
+            return 0
+    return m
+
+
+@njit(cache=True, nogil=True)
+def _area(a: np.ndarray, m: int) -> float:
+    """Area of the polygon a[:m] (shoelace)."""
+    s = 0.0
+    q = m - 1
+    for v in range(m):
+        s += a[q, 0] * a[v, 1] - a[v, 0] * a[q, 1]
+        q = v
+    return 0.5 * s
+
+
+@njit(cache=True, nogil=True)
+def _within(poly: np.ndarray, a: np.ndarray, m: int, tol: float) -> bool:
+    """Whether the points a[:m] lie in the convex counter-clockwise polygon ``poly`` (up to
+    ``tol`` cells outside an edge: shared edges of two placements round differently)."""
+    n = poly.shape[0]
+    for e in range(n):
+        ax, ay = poly[e - 1, 0], poly[e - 1, 1]
+        ex, ey = poly[e, 0] - ax, poly[e, 1] - ay
+        lim = -tol * math.sqrt(ex * ex + ey * ey)
+        for v in range(m):
+            if ex * (a[v, 1] - ay) - ey * (a[v, 0] - ax) < lim:
+                return False
+    return True
+
+
+# cells^2: a footprint's overlap with a cell smaller than this is a touch, not a cover
+SLIVER = 1e-6
+# m: a footprint this little outside the start footprint stays on it (the flats of a polygon
+# approximating a round robot turning on the spot reach ~4 mm out; shared edges round)
+START_TOLERANCE = 0.01
+
+
+@njit(cache=True, nogil=True)
+def first_unobserved(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y: float,
+                     resolution: float, footprint: np.ndarray, convex: bool, poses: np.ndarray,
+                     start: np.ndarray, since: float, tolerance: float = START_TOLERANCE,
+                     allow_unknown: bool = False) -> tuple[int, int, int]:
+    """The first of ``poses`` (N, 3) whose footprint reaches into a cell not observed free since
+    ``since`` (free stamp >= since and newer than its occupied stamp), with that cell (i, j),
+    counting only the part of the footprint more than ``tolerance`` m outside the footprint at
+    ``start`` (3,): the robot stands there. Cells off the grid are unobserved. (-1, 0, 0) when
+    every pose keeps to observed-free space. With ``allow_unknown`` only a cell whose newest
+    observation is occupied (at any age) counts: never seen, or seen free long ago, will do (a
+    last resort when nothing around was seen).
+
+    ``convex`` (the footprint counter-clockwise): a cell counts when the footprint covers some
+    of it outside the start footprint (exact polygon clipping). Otherwise, conservatively, every
+    cell the footprint meets counts unless it lies wholly under the start footprint."""
+    h, w = free.shape
+    inv = 1.0 / resolution
+    sc = math.cos(start[2])
+    ss = math.sin(start[2])
+    home = _place_all(footprint, start[0], start[1], start[2], origin_x, origin_y, inv)
+    tol = tolerance * inv
+    a = np.empty((footprint.shape[0] + 5, 2))
+    b = np.empty((footprint.shape[0] + 5, 2))
+    for p in range(poses.shape[0]):
+        x = poses[p, 0]
+        y = poses[p, 1]
+        c = math.cos(poses[p, 2])
+        s = math.sin(poses[p, 2])
+        placed = _place_all(footprint, x, y, poses[p, 2], origin_x, origin_y, inv)
+        i0, j0, i1, j1 = _cell_box(footprint, x, y, c, s, origin_x, origin_y, inv)
+        for j in range(j0, j1 + 1):
+            for i in range(i0, i1 + 1):
+                if convex:
+                    m = _clip_square(placed, i, j, a, b)
+                    if m < 3 or _area(a, m) <= SLIVER or _within(home, a, m, tol):
+                        continue
+                else:
+                    if not _square_meets_polygon(footprint, x, y, c, s, origin_x, origin_y, inv,
+                                                 i, j):
+                        continue
+                    if _square_inside(footprint, start[0], start[1], sc, ss, origin_x,
+                                      origin_y, inv, i, j):
+                        continue
+                if not (0 <= i < w and 0 <= j < h):
+                    if allow_unknown:
+                        continue
+                    return p, i, j
+                f = free[j, i]
+                o = occupied[j, i]
+                if allow_unknown:
+                    if o > NEVER and o >= f:
+                        return p, i, j
+                elif not (f >= since and f > o):
+                    return p, i, j
+    return -1, 0, 0
+
+
+def _convex_ccw(fp: np.ndarray) -> tuple[np.ndarray, bool]:
+    """The footprint counter-clockwise, and whether it is convex."""
+    x, y = fp[:, 0], fp[:, 1]
+    if float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) < 0.0:
+        fp = fp[::-1].copy()
+    d = np.roll(fp, -1, axis=0) - fp
+    cross = d[:, 0] * np.roll(d[:, 1], -1) - d[:, 1] * np.roll(d[:, 0], -1)
+    return np.ascontiguousarray(fp), bool(np.all(cross >= -1e-12))
+
+
+class ObservedSpace:
+    """A rolling ``size_x`` x ``size_y`` cell window of observation stamps around the robot.
+
+    ``footprint``: the robot's outline (robot frame), which motions are checked with;
+    ``clearing_footprint`` (default: the same): the outline whose cells each cycle frees, the
+    costmaps' padded footprint. ``update(pose, scan, laser_pose, now)`` is the whole per-cycle
+    input; queries read ``free_since`` / ``first_unobserved``."""
+
+    def __init__(self, resolution: float, size_x: int, size_y: int, footprint: object,
+                 clearing_footprint: object = None) -> None:
+        if not resolution > 0:
+            raise ValueError(f"ObservedSpace: resolution must be > 0, got {resolution}")
+        if size_x <= 0 or size_y <= 0:
+            raise ValueError(f"ObservedSpace: size must be positive, got {size_x} x {size_y}")
+        self.resolution = float(resolution)
+        self.footprint, self.convex = _convex_ccw(parse_footprint(footprint))
+        self.clearing_footprint = parse_footprint(
+            footprint if clearing_footprint is None else clearing_footprint)
+        self.free = np.full((int(size_y), int(size_x)), NEVER)
+        self.occupied = np.full((int(size_y), int(size_x)), NEVER)
+        self.origin_x = 0.0
+        self.origin_y = 0.0
+        self._placed = False
+
+    @classmethod
+    def around(cls, resolution: float, width: float, height: float, footprint: object,
+               clearing_footprint: object = None) -> ObservedSpace:
+        """A window of ``width`` x ``height`` metres."""
+        return cls(resolution, max(1, int(round(width / resolution))),
+                   max(1, int(round(height / resolution))), footprint, clearing_footprint)
+
+    @property
+    def size_x(self) -> int:
+        return int(self.free.shape[1])
+
+    @property
+    def size_y(self) -> int:
+        return int(self.free.shape[0])
+
+    def recentre(self, x: float, y: float) -> None:
+        """Move the window so (x, y) is near its centre, on the world lattice (whole cells, as
+        costmap_2d's rolling window): what it holds keeps its world position."""
+        res = self.resolution
+        nx = math.floor((x - self.size_x * res / 2.0) / res)
+        ny = math.floor((y - self.size_y * res / 2.0) / res)
+        if not self._placed:
+            self.origin_x, self.origin_y, self._placed = nx * res, ny * res, True
+            return
+        dx = nx - int(round(self.origin_x / res))
+        dy = ny - int(round(self.origin_y / res))
+        if dx == 0 and dy == 0:
+            return
+        self.free = shift_grid(self.free, dx, dy, NEVER)
+        self.occupied = shift_grid(self.occupied, dx, dy, NEVER)
+        self.origin_x, self.origin_y = nx * res, ny * res
+
+    def add_scan(self, scan: LaserScan, laser_pose: Pose2D, now: float) -> int:
+        """Stamp what one scan saw from ``laser_pose`` (in the same frame as the window)."""
+        angles = scan.angles() + laser_pose.theta
+        ranges = np.asarray(scan.ranges, dtype=np.float64)
+        return stamp_scan(self.free, self.occupied, self.origin_x, self.origin_y, self.resolution,
+                          laser_pose.x, laser_pose.y, angles, ranges, float(scan.range_min),
+                          float(scan.range_max), float(now))
+
+    def add_body(self, pose: Pose2D, now: float) -> bool:
+        """Free the cells under the clearing footprint at ``pose`` (costmap_2d's footprint
+        clearing: the convex fill of its vertex cells): stamped free, occupied forgotten. False,
+        touching nothing, when a vertex is off the window."""
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        fp = self.clearing_footprint
+        xs = pose.x + c * fp[:, 0] - s * fp[:, 1]
+        ys = pose.y + s * fp[:, 0] + c * fp[:, 1]
+        cells = np.column_stack([np.floor((xs - self.origin_x) / self.resolution),
+                                 np.floor((ys - self.origin_y) / self.resolution)]
+                                ).astype(np.int64)
+        if np.any(cells < 0) or np.any(cells[:, 0] >= self.size_x) \
+                or np.any(cells[:, 1] >= self.size_y):
+            return False
+        _fill_convex_cells(self.free, cells, float(now))
+        _fill_convex_cells(self.occupied, cells, NEVER)
+        return True
+
+    def update(self, pose: Pose2D, scan: LaserScan | None, laser_pose: Pose2D | None,
+               now: float) -> None:
+        """One cycle: follow the robot, stamp a new scan (if any), then free its body."""
+        self.recentre(pose.x, pose.y)
+        if scan is not None and laser_pose is not None:
+            self.add_scan(scan, laser_pose, now)
+        self.add_body(pose, now)  # after the scan, as costmap_2d clears the footprint last
+
+    def free_since(self, since: float) -> np.ndarray:
+        """Boolean grid [my, mx]: observed free at or after ``since``."""
+        return (self.free >= since) & (self.free > self.occupied)
+
+    def first_unobserved(self, poses: list[Pose2D], start: Pose2D, since: float,
+                         allow_unknown: bool = False) -> tuple[int, tuple[float, float]] | None:
+        """The index of the first of ``poses`` whose footprint reaches a cell not observed free
+        since ``since`` (beyond what the robot covers at ``start``) and that cell's centre;
+        None when the whole motion stays on observed-free space. ``allow_unknown``: only
+        cells last seen occupied count (see the kernel ``first_unobserved``)."""
+        if not poses:
+            return None
+        arr = np.array([[p.x, p.y, p.theta] for p in poses], dtype=np.float64)
+        k, i, j = first_unobserved(self.free, self.occupied, self.origin_x, self.origin_y,
+                                   self.resolution, self.footprint, self.convex, arr,
+                                   np.array([start.x, start.y, start.theta]), float(since),
+                                   START_TOLERANCE, bool(allow_unknown))
+        if k < 0:
+            return None
+        return int(k), (self.origin_x + (i + 0.5) * self.resolution,
+                        self.origin_y + (j + 0.5) * self.resolution)
