@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from behaviors.actions.recovery_action import CMD_VEL_OUT, ERROR_CODE_OUT, RecoveryAction
+from behaviors.actions.recovery_action import (CMD_VEL_OUT, ERROR_CODE_OUT, OBSERVED_IN,
+                                              RecoveryAction)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.error_codes import RecoveryError
@@ -29,7 +30,8 @@ class StartEscape(RecoveryAction):
 
     SUCCESS once the footprint is free (at once, without moving, when it already is).
     RUNNING while moving. FAILURE: NO_FREE_POSE (no such motion), COLLISION_AHEAD (the costmap
-    changed under the motion), TIMEOUT (``time_allowance``). Every exit leaves a zero command.
+    changed under the motion), UNOBSERVED_SPACE (the motion would enter space not seen free
+    within ``observed_within`` s), TIMEOUT (``time_allowance``). Every exit leaves a zero command.
     """
 
     INPUT_PORTS = {
@@ -40,6 +42,7 @@ class StartEscape(RecoveryAction):
         "time_allowance": Port(float, False, "s before giving up", 20.0, low=0.0),
         "simulate_ahead_time": Port(float, False, "collision look-ahead, s", 1.0, low=0.0),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
+        **OBSERVED_IN,
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "start_escape_error_code"}
@@ -100,6 +103,13 @@ class StartEscape(RecoveryAction):
                 self.stop_motion()
                 self.report(RecoveryError.COLLISION_AHEAD,
                             f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m on")
+                return FAILURE
+            blind = self.first_unobserved(way, pose)
+            if blind is not None:
+                self.stop_motion()
+                self.report(RecoveryError.UNOBSERVED_SPACE,
+                            f"not observed free within {self.get_input('observed_within')} s: "
+                            f"{blind[1]:.2f} m on")
                 return FAILURE
         self.write("cmd_vel", Twist(v, 0.0, v * m.curvature))
         kind = "straight" if m.curvature == 0.0 else f"arc of radius {1.0 / abs(m.curvature):.1f} m"
