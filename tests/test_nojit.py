@@ -28,6 +28,7 @@ SELECTED = [
     "tests/test_planners.py::test_dijkstra_and_astar_costs_are_optimal_on_random_grids",
     "tests/test_planners.py::test_cell_coordinates_from_the_reciprocal_match_integer_division",
     "tests/test_planners.py::test_replan_repairs_to_the_from_scratch_field_on_random_changes",
+    "tests/test_planners.py::test_goal_rooted_quadratic_field_is_the_order_free_fixed_point[plain]",
     "tests/test_planners.py::test_reuse_search_replans_by_repair_with_the_fresh_path",
     # costmap: footprint rasterisation, grid kernels, inflation
     "tests/test_costmap_footprint.py",

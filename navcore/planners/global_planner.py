@@ -64,8 +64,8 @@ GLOBAL_PLANNER_PARAMS = (
           min=1),
     Param("reuse_search", False, bool, "with use_dijkstra: root the potential at the goal so "
           "that a replan toward the same goal repairs the last field where costs changed "
-          "instead of searching afresh (navbt's; ROS roots it at the robot: paths differ "
-          "slightly)"),
+          "instead of searching afresh (navbt's; the repair gives exactly a fresh goal-rooted "
+          "plan's path; ROS roots it at the robot: paths differ slightly from the default's)"),
     Param("outline_map", True, bool, "treat the map's outer border as lethal (the wavefront "
           "never enters the border either way: its 4-cell stencil needs all neighbours)"),
     Param("publish_potential", True, bool, "return the potential grid with each plan"),

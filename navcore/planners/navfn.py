@@ -41,7 +41,8 @@ NAVFN_PARAMS = (
     Param("visualize_potential", False, bool, "return the potential grid with each plan"),
     Param("reuse_search", False, bool, "root the potential at the goal so that a replan toward "
           "the same goal repairs the last field where costs changed instead of searching afresh "
-          "(navbt's; ROS roots it at the robot: paths differ slightly)"),
+          "(navbt's; the repair gives exactly a fresh goal-rooted plan's path; ROS roots it at the "
+          "robot: paths differ slightly from the default's)"),
     Param("planner_window_x", 0.0, float, "m: declared by NavfnROS, unused there and here"),
     Param("planner_window_y", 0.0, float, "m: declared by NavfnROS, unused there and here"),
     Param("planner_costmap_publish_frequency", 0.0, float, "Hz: accepted for ROS files, unused"),

@@ -42,7 +42,8 @@ vector store, both LLVM IR) that visits the cells in the same order with the sam
 plain kernel beside it is what NUMBA_DISABLE_JIT=1 and NAVBT_PLAIN_KERNELS=1 run. The
 measurements behind each choice, and what was tried without gain, are in docs/performance.md.
 
-``plan_field`` roots the field at the goal and repairs it on a replan (see there).
+``plan_field`` roots the field at the goal and repairs it on a replan, with a monotone form of the
+quadratic update that makes the field independent of the visiting order (see there).
 """
 
 from __future__ import annotations
@@ -64,6 +65,19 @@ INVSQRT2 = 0.707106781
 _QA = np.float32(-0.2301)
 _QB = np.float32(0.5307)
 _QC = np.float32(0.7040)
+# the same coefficients for the monotone update (float64 arithmetic)
+_QA64 = -0.2301
+_QB64 = 0.5307
+_QC64 = 0.7040
+
+# Update kinds (``propagate``'s ``quadratic``): min(4 neighbours) + cost, navfn's quadratic, and
+# the quadratic made monotone for the goal-rooted field a replan repairs (``plan_field``)
+UPDATE_PLAIN = 0
+UPDATE_QUADRATIC = 1
+UPDATE_MONOTONE = 2
+# The idle gate of every passable cell under UPDATE_MONOTONE: a neighbour is queued whenever it
+# is above the new potential (see ``plan_field``)
+EXACT_GATE = np.float32(np.finfo(np.float32).tiny)
 _INVSQRT2 = np.float32(INVSQRT2)
 
 
@@ -186,11 +200,13 @@ def _make_idle(rec: np.ndarray, costs: np.ndarray, lut_push: np.ndarray, queue: 
         rec[2 * m + GATE] = lut_push[costs[m]]
 
 
-def _make_propagate(quadratic: bool, astar: bool, prefetch: bool, compress: bool):
-    """``propagate`` compiled for one update kind and search kind, with or without the prefetch
-    hints and the compressing push (``KERNEL_VARIANT``): the flags are constants of the closure,
-    so each variant carries only its own code (a single generic kernel spent a third of its
-    instructions on flag tests and on spilled registers)."""
+def _make_propagate(update: int, astar: bool, prefetch: bool, compress: bool):
+    """``propagate`` compiled for one update kind (UPDATE_*) and search kind, with or without the
+    prefetch hints and the compressing push (``KERNEL_VARIANT``): the flags are constants of the
+    closure, so each variant carries only its own code (a single generic kernel spent a third of
+    its instructions on flag tests and on spilled registers)."""
+    quadratic = update != UPDATE_PLAIN
+    monotone = update == UPDATE_MONOTONE
 
     @njit(cache=True)
     def propagate(costs: np.ndarray, lut_push: np.ndarray, lut_hf: np.ndarray,
@@ -278,7 +294,15 @@ def _make_propagate(quadratic: bool, astar: bool, prefetch: bool, compress: bool
                 tc = min(l, r)
                 ta0 = min(u, d)
                 ta = min(ta0, tc)
-                if quadratic:
+                if monotone:
+                    # navfn's planar-wave update with its factor capped at 1 (it reaches 1.0046
+                    # at dc == hf and then drops to 1), in float64: monotone in both sides
+                    # (``plan_field`` says why)
+                    q = min(abs(np.float64(tc) - np.float64(ta0))
+                            * np.float64(cost_rec[cn + np.uintp(2)]), 1.0)
+                    g = min(_QC64 + q * (_QB64 + _QA64 * q), 1.0)
+                    p = np.float32(np.float64(ta) + np.float64(hf) * g)
+                elif quadratic:
                     # navfn's planar-wave update (both sides computed, then selected)
                     dc = abs(tc - ta0)
                     q = dc * cost_rec[cn + np.uintp(2)]
@@ -352,7 +376,8 @@ def _make_propagate(quadratic: bool, astar: bool, prefetch: bool, compress: bool
     return propagate
 
 
-_PROPAGATE = {(q, a, *v): _make_propagate(q, a, *v) for q in (False, True)
+_PROPAGATE = {(q, a, *v): _make_propagate(q, a, *v)
+              for q in (UPDATE_PLAIN, UPDATE_QUADRATIC, UPDATE_MONOTONE)
               for a in (False, True) for v in {PLAIN_VARIANT, KERNEL_VARIANT}}
 
 
@@ -360,9 +385,12 @@ def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarra
               buf_a: np.ndarray, buf_b: np.ndarray, buf_c: np.ndarray,
               seed_cells: np.ndarray, seed_pots: np.ndarray, push_cells: np.ndarray,
               target: int, threshold: float, increment: float, max_cycles: int,
-              quadratic: bool, hkind: int = HEURISTIC_NONE, hscale: float = 0.0,
+              quadratic: int, hkind: int = HEURISTIC_NONE, hscale: float = 0.0,
               stop_margin: float = 0.0) -> tuple:
     """Spread potential from the seeds until ``target`` is final or nothing is left to update.
+
+    ``quadratic`` is the update kind: UPDATE_PLAIN (False), UPDATE_QUADRATIC (True, navfn's) or
+    UPDATE_MONOTONE (with EXACT_GATE push costs; see ``plan_field``).
 
     ``costs`` is the flat uint8 costmap and ``tables`` its ``kernel_tables``. ``rec`` (float32,
     two per cell: potential at 2n, gate at 2n + 1) must hold POT_HIGH potentials and the idle
@@ -376,7 +404,7 @@ def propagate(costs: np.ndarray, tables: tuple, nx: int, ny: int, rec: np.ndarra
     distance to ``target`` instead of the potential alone (the stored potential has no heuristic).
     With a consistent heuristic every cell whose key is below a finished band is final, as above.
     """
-    kernel = _PROPAGATE[(bool(quadratic), hkind != HEURISTIC_NONE, *KERNEL_VARIANT)]
+    kernel = _PROPAGATE[(int(quadratic), hkind != HEURISTIC_NONE, *KERNEL_VARIANT)]
     return kernel(costs, *tables, nx, ny, rec, buf_a, buf_b, buf_c, seed_cells, seed_pots,
                   push_cells, target, threshold, increment, max_cycles, hkind, hscale,
                   stop_margin)
@@ -525,8 +553,24 @@ def run_wavefront(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: 
 # min(up, down), so m depends on a neighbour n only if n's potential is below m's and n was the
 # lower of m's pair along that axis. Those cells lose their potential; the wave restarts from
 # them, from the changed cells and from whatever the last run left queued (the LPA* idea on
-# navfn's bands). The plain update's result is then exactly the from-scratch one; the quadratic
-# update depends on the visiting order, so its repaired values differ slightly (tests bound it).
+# navfn's bands).
+#
+# A repair visits cells in another order than a fresh plan, so it gives the fresh plan's field
+# only where the field does not depend on the order. The plain update's does not. navfn's
+# quadratic one does, for two reasons: its factor jumps down from 1.0046 to 1 at dc == hf (not
+# monotone: a neighbour that drops can raise the candidate, and a cell keeps the lowest candidate
+# it ever saw), and its push rule (queue m when pm > p + cost/sqrt(2)) misses neighbours for which
+# p is the larger side (the candidate is then as little as 0.005 x cost above p), which then keep
+# a value computed from stale neighbours. The goal-rooted field therefore uses UPDATE_MONOTONE:
+# the factor capped at 1 (an update's value moves by at most 0.46 % of the cell's cost, where
+# 0.945 < dc/hf < 1), computed in float64 (exact differences of float32 inputs dwarf its rounding,
+# so the float32 result is monotone in both sides), and neighbours queued whenever they are above
+# the new potential (EXACT_GATE). Every run then ends with every cell below its last finished band
+# equal to the greatest fixed point of the update, whatever the order or band width, from any
+# starting state that is nowhere below that fixed point and has every cell it could lower queued;
+# the invalidation above leaves such a state. So a repair equals the fresh plan bit for bit on the
+# cells the descent reads, and both equal the plain FIFO propagation of the tests. The cost: 8 %
+# more updates than navfn's rule on the office maps.
 
 
 @njit(cache=True)
@@ -630,8 +674,14 @@ def plan_field(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int
 
     With ``reuse``, a field from the same seeds, tables and bands is repaired instead of
     recomputed, unless more than ``max_changed`` of the cells changed. Returns ``(reached,
-    cell_updates, cycles, repaired)``.
+    cell_updates, cycles, repaired)``. The quadratic update runs as UPDATE_MONOTONE (``tables``
+    then get EXACT_GATE push costs): repaired and fresh fields agree exactly (see above).
     """
+    update = UPDATE_PLAIN
+    if quadratic:
+        update = UPDATE_MONOTONE
+        tables = (np.where(tables[0] < np.inf, EXACT_GATE, np.float32(np.inf)).astype(np.float32),
+                  tables[1], tables[2])
     lut_push = tables[0]
     ns = nx * ny
     key = (seed_cells.tobytes(), seed_pots.tobytes(), bool(quadratic), float(threshold),
@@ -650,7 +700,7 @@ def plan_field(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int
                 out = propagate(ws.gate_costs, tables, nx, ny, ws.rec, ws.buf_a, ws.buf_b,
                                 ws.buf_c, seed_cells[:0], seed_pots[:0], push, target,
                                 _repair_threshold(ws.pot, push, nx, ns, threshold) + increment,
-                                increment, max_cycles, quadratic, stop_margin=stop_margin)
+                                increment, max_cycles, update, stop_margin=stop_margin)
                 ws.pending, ws.field, ws.gate_lut = out[3], key, lut_push.copy()
                 return out[0], out[1], out[2], True
         ws.gate_lut = None  # the copy is partly synced, or gates were rewritten: start afresh
@@ -668,7 +718,7 @@ def plan_field(ws: Workspace, costs: np.ndarray, tables: tuple, nx: int, ny: int
             ws.rec[2 * target + GATE] = lut_push[0]
     out = propagate(ws.gate_costs, tables, nx, ny, ws.rec, ws.buf_a, ws.buf_b, ws.buf_c,
                     seed_cells, seed_pots, push_cells, target, threshold, increment, max_cycles,
-                    quadratic, stop_margin=stop_margin)
+                    update, stop_margin=stop_margin)
     ws.pending, ws.field, ws.gate_lut = out[3], key, lut_push.copy()
     return out[0], out[1], out[2], False
 
