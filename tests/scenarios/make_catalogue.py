@@ -711,3 +711,26 @@ write("goal_on_unseen_pallet",
         final_pose: {of: [4.1, 1.6, 0.0], within: 0.75}   # the 0.5 m search + 0.25 m goal tolerance
         max_time: 30
       """)
+
+# dithering between two gaps (issue 17, class 4): two 0.7 m gaps either side of a block, the
+# robot a little off the middle; each replan picks the other gap while the local planner slides
+# along the wall in front of the one it was heading for
+g = G(70, 40)
+g.fill(35, 1, 36, 38, "#")
+g.fill(35, 10, 36, 16, "."); g.fill(35, 23, 36, 29, ".")   # gaps y 1.0..1.7 and 2.3..3.0
+g.fill(40, 17, 55, 22, "#")                                 # the block behind the wall
+write("junction_dithering",
+      "Two 0.7 m gaps in a wall either side of a block, the goal behind the block, the robot "
+      "starting a little below the middle. Left alone the robot swings between the gaps: each "
+      "replan picks the other one while the local planner slides along the wall in front of "
+      "the gap it was heading for, until the time runs out. A good tree notices that it keeps "
+      "moving without getting nearer, commits to the gap its plan takes (lines up in front of "
+      "it and drives straight through) and arrives.", g, """
+      start: [1.0, 1.9, 0.0]
+      goals: [[6.2, 2.0, 0.0]]
+      time_limit: 60
+      expect:
+        outcome: succeeded
+        no_collision: true
+        max_time: 45
+      """)
