@@ -20,7 +20,7 @@ from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.costmap.layered import LayeredCostmap
 from navcore.error_codes import DriveOnHeadingError, RecoveryError
 from navcore.motion.line_up import entry_blocked, goal_room, line_offsets, pre_pose, segment_poses
-from navcore.motion.start_escape import motion_poses, straightest_escape
+from navcore.motion.start_escape import motion_poses, nearer_than, start_gap, straightest_escape
 from navcore.planners import make_planner
 from navcore.synthetic_maps import ascii_map
 from navcore.types import Pose2D, Twist
@@ -175,6 +175,24 @@ def test_straightest_escape_frees_the_footprint_soonest_without_touching(side, s
     assert straightest_escape(cm, start, m.distance - 0.03) is None
 
 
+def test_straightest_escape_never_closes_in_on_the_wall_beside_it():
+    # parallel to a shelf 3 cm away: every arc swings a corner towards it, so the way out is
+    # straight along it, past its end
+    g = room()
+    wall(g, 1.0, 0.05, 3.0, 0.5)
+    cm = costmap(g)
+    start = Pose2D(2.6, 0.5 + 0.22 + 0.03, 0.0)
+    gap = start_gap(cm, start)
+    assert 0.0 < gap < 0.05
+    assert straightest_escape(cm, start, 0.6) is None
+    m = straightest_escape(cm, start, 2.0)
+    assert m is not None and m.curvature == 0.0 and m.direction > 0
+    way = motion_poses(start, m.direction, m.curvature, 0.02, int(round(m.distance / 0.02)))
+    assert nearer_than(cm, [Pose2D(*p) for p in way], gap) is None
+    arc = motion_poses(start, 1.0, 1.0, 0.02, 30)
+    assert nearer_than(cm, [Pose2D(*p) for p in arc], gap) is not None
+
+
 def test_straightest_escape_none_when_boxed_in():
     g = room()
     wall(g, 1.0, 1.0, 1.6, 1.05)
@@ -302,7 +320,7 @@ def test_approach_straight_refuses_to_start_off_the_line_and_stops_before_an_obs
 
 
 @pytest.mark.parametrize("start", [Pose2D(2.5, 0.42, 0.0), Pose2D(4.62, 3.0, 0.2),
-                                   Pose2D(0.4, 3.55, -2.0)])
+                                   Pose2D(0.36, 2.0, -1.5708)])
 def test_start_escape_drives_out_of_inflation_then_succeeds_and_is_idle_when_free(start):
     rig = Rig(room(), start)
     cm = rig.world.local_costmap

@@ -8,10 +8,10 @@ from typing import Any
 from behaviors.actions.recovery_action import (CMD_VEL_OUT, ERROR_CODE_OUT, OBSERVED_IN,
                                               RecoveryAction)
 from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
-from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
+from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from navcore.error_codes import RecoveryError
 from navcore.motion.pursuit import CHECK_STEP
-from navcore.motion.start_escape import motion_poses, straightest_escape
+from navcore.motion.start_escape import motion_poses, nearer_than, start_gap, straightest_escape
 from navcore.types import Pose2D, Twist
 
 # searches per run: a motion that no longer frees the footprint (the costmap changed) is
@@ -25,8 +25,9 @@ class StartEscape(RecoveryAction):
     """Get the robot's footprint out of inscribed or lethal cost (a start pressed against a
     wall, a planner's START_OCCUPIED) by the straightest free motion: straight forwards or
     backwards, or else a short arc, whichever frees it (below the inscribed cost) in the least
-    travel, at most ``max_distance`` m (``navcore.motion.start_escape``), driven at ``speed``
-    m/s and footprint-checked over ``simulate_ahead_time`` s of it on the ``costmap``.
+    travel, at most ``max_distance`` m, the body never nearer a lethal cell than where it
+    started (``navcore.motion.start_escape``), driven at ``speed`` m/s and checked so over
+    ``simulate_ahead_time`` s of it each tick.
 
     SUCCESS once the footprint is free (at once, without moving, when it already is).
     RUNNING while moving. FAILURE: NO_FREE_POSE (no such motion), COLLISION_AHEAD (the costmap
@@ -52,6 +53,7 @@ class StartEscape(RecoveryAction):
         self._start = self.clock.now()
         self._motion = None
         self._from: Pose2D | None = None
+        self._gap: float | None = None
         self._searches = 0
 
     def _handle(self) -> Any:
@@ -90,7 +92,7 @@ class StartEscape(RecoveryAction):
                             f"no straight or arc motion frees the footprint within "
                             f"{self.get_input('max_distance'):.2f} m")
                 return FAILURE
-            self._motion, self._from = m, pose
+            self._motion, self._from, self._gap = m, pose, start_gap(handle, pose)
         speed = self.get_input("speed")
         left = max(m.distance - pose.distance_to(self._from), 0.0) + OVERSHOOT
         v = m.direction * speed
@@ -99,6 +101,9 @@ class StartEscape(RecoveryAction):
             n = max(1, int(math.ceil(ahead / CHECK_STEP)))
             way = [Pose2D(*p) for p in motion_poses(pose, m.direction, m.curvature, ahead / n, n)]
             hit = self.first_collision(way, pose)
+            near = nearer_than(handle, way, self._gap) if hit is None else None
+            if near is not None:
+                hit = (way[near], LETHAL_OBSTACLE)
             if hit is not None:
                 self.stop_motion()
                 self.report(RecoveryError.COLLISION_AHEAD,

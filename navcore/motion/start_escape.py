@@ -12,11 +12,14 @@ from typing import Any
 
 import numpy as np
 
+from navcore.costmap.clearance import clearances
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
-from navcore.motion.collision import first_collision
+from navcore.motion.collision import CLEARANCE_TOLERANCE, first_collision
 from navcore.motion.line_up import footprint_costs_of
 from navcore.types import Pose2D
 
+# m: the body may come this near a lethal cell on the way out, if it started farther
+ESCAPE_MARGIN = 0.05
 # curvatures (1/m) of the arcs tried after the straight motions: radii 2, 1 and 0.5 m
 ARC_CURVATURES = (0.5, 1.0, 2.0)
 
@@ -47,12 +50,35 @@ def motion_poses(pose: Pose2D, direction: float, curvature: float, step: float,
     return np.column_stack([pose.x + c * lx - si * ly, pose.y + si * lx + c * ly, th])
 
 
+def start_gap(handle: Any, pose: Pose2D) -> float | None:
+    """The body's clearance (m) from the lethal cells at ``pose`` (negative: overlap on the
+    grid); None without a footprint polygon and grid (a scripted costmap)."""
+    gaps = clearances(handle, [pose])
+    return None if gaps is None else float(gaps[0])
+
+
+def nearer_than(handle: Any, poses: list[Pose2D], gap: float | None) -> int | None:
+    """Index of the first of ``poses`` where the body comes nearer a lethal cell than ``gap``
+    (its clearance where the motion began) or ``ESCAPE_MARGIN``, whichever is less: a turning
+    body's corner sweeps towards the wall it leaves, and a costmap mark inside the real gap
+    makes that gap look smaller than it is, so an escape never closes in. None if none does,
+    or without geometry."""
+    if gap is None or not poses:
+        return None
+    gaps = clearances(handle, poses)
+    if gaps is None:
+        return None
+    low = np.nonzero(gaps < min(gap, ESCAPE_MARGIN) - CLEARANCE_TOLERANCE)[0]
+    return int(low[0]) if low.size else None
+
+
 def straightest_escape(handle: Any, pose: Pose2D, max_distance: float, step: float = 0.02,
                        curvatures: tuple[float, ...] = ARC_CURVATURES) -> EscapeMotion | None:
     """The motion that frees the footprint (cost below inscribed) in the least travel, at most
     ``max_distance`` m: straight forwards or backwards first, then arcs of growing curvature
     either way; among equally short ones (to a ``step``) the straighter wins. A motion counts
-    only if ``first_collision`` passes every pose up to the free one. None when none frees it."""
+    only if ``first_collision`` passes every pose up to the free one and the body never comes
+    nearer a lethal cell than at the start (``nearer_than``). None when none frees it."""
     n = max(1, int(math.ceil(max_distance / step)))
     kinds = [(d, 0.0) for d in (1.0, -1.0)]
     kinds += [(d, side * k) for k in curvatures for d in (1.0, -1.0) for side in (1.0, -1.0)]
@@ -64,8 +90,9 @@ def straightest_escape(handle: Any, pose: Pose2D, max_distance: float, step: flo
         if free.size:
             found.append((int(free[0]), rank, direction, curvature, poses[:free[0] + 1]))
     found.sort(key=lambda t: t[:2])
+    gap = start_gap(handle, pose)
     for i, _, direction, curvature, poses in found:
         way = [Pose2D(*p) for p in poses]
-        if first_collision(handle, way, pose) is None:
+        if first_collision(handle, way, pose) is None and nearer_than(handle, way, gap) is None:
             return EscapeMotion(direction, curvature, (i + 1) * step, way[-1])
     return None

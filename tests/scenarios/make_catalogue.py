@@ -734,3 +734,56 @@ write("junction_dithering",
         no_collision: true
         max_time: 45
       """)
+
+# tight spots (issue 17, class 6)
+def rotated_box(g, res, cx, cy, angle, along, across):
+    """Fill the cells whose centre lies in the box [along] x [across] (m) of the frame at
+    (cx, cy) turned by ``angle``: walls at any angle, drawn as the grid draws them."""
+    import math
+    c, s = math.cos(angle), math.sin(angle)
+    for x in range(g.w):
+        for y in range(g.h):
+            dx, dy = (x + 0.5) * res - cx, (y + 0.5) * res - cy
+            u, v = c * dx + s * dy, -s * dx + c * dy
+            if along[0] <= u <= along[1] and across[0] <= v <= across[1]:
+                g.set(x, y, "#")
+
+g = G(100, 60)                                    # 5 m x 3 m at 5 cm a character
+for across in ((0.38, 0.5), (-0.5, -0.38)):       # side walls 0.76 m apart (0.70 m clear on
+    rotated_box(g, 0.05, 3.3, 1.3, 0.7854, (0.0, 1.02), across)   # the grid's staircase)
+rotated_box(g, 0.05, 3.3, 1.3, 0.7854, (0.9, 1.02), (-0.5, 0.5))  # the bay's end
+write("parking_bay_diagonal",
+      "Park in a bay at 45 degrees to every wall (0.7 m clear on the grid for a 0.44 m wide "
+      "body, 0.9 m deep, its mouth facing south-west), facing into it, within 10 cm and 0.1 "
+      "rad. Lining up in front of it means lining up on a diagonal, on no axis of the grid.", g, """
+      start: [0.8, 2.3, 0.0]
+      goals: [[3.618, 1.618, 0.7854]]
+      params:
+        DWAPlannerROS: {xy_goal_tolerance: 0.1, yaw_goal_tolerance: 0.1}
+        global_costmap: {inflation_layer: {inflation_radius: 0.3}}
+        local_costmap: {inflation_layer: {inflation_radius: 0.3}}
+      time_limit: 90
+      expect:
+        outcome: succeeded
+        no_collision: true
+        final_pose: {within: 0.1, yaw: 0.1}
+        recoveries: {at_most: 3}
+      """, resolution=0.05)
+
+g = G(100, 60)                                    # 5 m x 3 m at 5 cm a character
+g.fill(30, 1, 69, 9, "#")                         # a low shelf along the south wall, to y 0.5
+write("start_beside_shelf_global_planner",
+      "The robot starts parallel to a shelf, 2.5 cm from it: with global_planner its own cell is "
+      "inscribed cost and the planner reports START_OCCUPIED (navfn would plan from it). Every "
+      "arc swings a corner towards the shelf; driving straight along it to its end frees the "
+      "robot. The goal is across the room.", g, """
+      start: [2.6, 0.745, 0.0]
+      goals: [[0.8, 2.4, 3.1416]]
+      params:
+        move_base: {base_global_planner: global_planner/GlobalPlanner}
+      time_limit: 60
+      expect:
+        outcome: succeeded
+        no_collision: true
+        max_time: 40
+      """, resolution=0.05)
