@@ -177,3 +177,52 @@ def test_is_goal_reachable_on_map_fails_for_a_closed_room_only():
     env2 = Env(open_cm, Pose2D(2.0, 0.9, 0.0))
     env2.put("goal", Pose2D(6.0, 0.9, 0.0))
     assert tick(env2.node("IsGoalReachableOnMap")) == S
+
+
+def doorway_scan(now: float) -> "LaserScan":
+    """A scan from (3.0, 0.8) facing +x whose beams end on the blocked doorway at x 4.1."""
+    from navcore.types import LaserScan
+    angles = np.arange(-0.3, 0.3 + 1e-9, 0.02)
+    return LaserScan(now, float(angles[0]), float(angles[-1]), 0.02, 0.0, 0.1, 0.1, 5.0,
+                     1.1 / np.cos(angles))
+
+
+def test_is_detour_long_age_clears_only_what_has_gone_unseen():
+    from navcore.clock import SimClock as Clock
+    from navcore.costmap.blocking import blocking_cells, last_seen_occupied
+    from navcore.costmap.observed_space import ObservedSpace
+    cm = costmap()
+    block_doorway(cm)
+    start, goal = Pose2D(2.0, 0.9, 0.0), Pose2D(6.0, 0.9, 0.0)
+    env = Env(cm, start)
+    clock = Clock()
+    env.components["clock"] = clock
+    observed = ObservedSpace.around(0.2, 12.0, 12.0, [[0.15, 0.15], [0.15, -0.15],
+                                                       [-0.15, -0.15], [-0.15, 0.15]])
+    observed.recentre(3.0, 0.8)
+    env.components["observed_space"] = observed
+    detour = env.planner.make_plan(start, goal).path
+    route = MapOnlyRoute(cm, env.planner).plan(start, goal).path
+    cells = blocking_cells(cm, route, 0.15)
+    assert len(cells) > 0 and np.all(np.abs(cells[:, 0] - 4.1) < 0.2)   # the doorway's fill
+    assert last_seen_occupied(observed, cells) == -np.inf               # never seen: a phantom
+    env.put("goal", goal)
+    aged = env.node("IsDetourLong", ratio=2.0, min_extra=2.0, age=5.0)
+    env.put("path", detour)
+    assert tick(aged) == S                                  # nobody saw it: clear first
+    clock.advance(10.0)
+    observed.add_scan(doorway_scan(clock.now()), Pose2D(3.0, 0.8, 0.0), clock.now())
+    assert last_seen_occupied(observed, cells) == clock.now()
+    clock.advance(1.0)
+    fresh = env.node("IsDetourLong", ratio=2.0, min_extra=2.0, age=5.0)
+    env.put("path", env.planner.make_plan(start, goal).path)
+    assert tick(fresh) == F                                 # seen 1 s ago: drive the detour
+    assert tick(env.node("IsDetourLong", ratio=2.0, min_extra=2.0)) == S    # age not checked
+    clock.advance(5.0)                                      # 6 s unseen (the laser looks away)
+    env.put("path", env.planner.make_plan(start, goal).path)
+    assert tick(fresh) == F                 # that look counted: not questioned again behind it
+    unlimited = env.node("IsDetourLong", ratio=2.0, min_extra=2.0, age=5.0, max_per_goal=0)
+    assert tick(unlimited) == S                             # unseen for 6 s: look again
+    env.components["observed_space"] = None                 # no memory: the ratio alone
+    blind = env.node("IsDetourLong", ratio=2.0, min_extra=2.0, age=100.0)
+    assert tick(blind) == S

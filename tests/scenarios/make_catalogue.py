@@ -787,3 +787,27 @@ write("start_beside_shelf_global_planner",
         no_collision: true
         max_time: 40
       """, resolution=0.05)
+
+# a fresh obstacle that leaves a long detour (issue 17, class 1, the age side): a wall with a
+# near doorway that a real cabinet fills, in view from the start, and a far one at the top
+g = G(80, 60)
+g.fill(40, 1, 41, 58, "#")
+g.fill(40, 5, 41, 15, ".")                                        # near doorway y 0.5..1.6
+g.fill(40, 50, 41, 58, ".")                                       # far doorway y 5.0..5.9
+write("doorway_blocked_in_view",
+      "A cabinet the map does not know fills the near doorway, and the robot faces it from the "
+      "start: the laser sees it all along. The only way is the far doorway, a detour more than "
+      "twice as long. A good tree tells this obstacle, seen a moment ago, from a stale one (the "
+      "blocking cells' age) and drives the detour without clearing what its laser is looking "
+      "at.", g, """
+      start: [2.0, 1.0, 0.0]
+      goals: [[6.0, 1.0, 0.0]]
+      objects:
+        - {box: [3.9, 0.4, 4.3, 1.7], name: cabinet}
+      time_limit: 90
+      expect:
+        outcome: succeeded
+        via: [{box: [3.9, 5.0, 4.3, 5.9], name: far_doorway}]
+        recoveries: {none_of: [ClearGlobalBeforeDetour]}
+        max_time: 45
+      """)
