@@ -209,10 +209,27 @@ def dask_client(address: str, jobs: int) -> Any:
     except ImportError:
         raise RuntimeError("--dask needs dask.distributed: pip install 'navbt[sweep]'") from None
     if address == "local":
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None)
+        import dask
+        with dask.config.set(QUIET_WORKERS):   # the nannies hand this config to their workers
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=None)
         return Client(cluster)
     return Client(address)
+
+
+# What a LocalCluster's workers do besides running tasks, slowed to what a sweep needs. By
+# default every worker wakes its event loop ~170 times a second (the statistical profiler walks
+# the task thread's stack every 10 ms, the tick monitor every 20 ms, the system monitor every
+# 500 ms): each wake-up takes the GIL from the run, and on a loaded machine the run thread then
+# waits for a core again. A sweep reads no profiles; blocked-loop warnings (>3 s) and memory limits
+# still work at 1 s. docs/sweeps.md gives the same settings as environment variables for
+# `dask worker` on a real cluster.
+QUIET_WORKERS = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "2s",
+    "distributed.worker.memory.monitor-interval": "1s",
+}
 
 
 def run_dask(tasks: list[RunTask], client: Any, on_result: OnResult) -> None:
