@@ -44,23 +44,44 @@ class _Base:
         return _NO_EVENTS
 
 
+ROOM_HALF_WIDTH = 5.0  # m: the walls the laser sees, the square of the no-op costmaps
+
+
+def room_range(x: float, y: float, angle: float) -> float:
+    """Distance from (x, y) along ``angle`` to the walls of the square room of half-width
+    ROOM_HALF_WIDTH around the origin (within the scan's 0.05-10 m)."""
+    c, s = math.cos(angle), math.sin(angle)
+    t = 10.0
+    if c != 0.0:
+        t = min(t, ((ROOM_HALF_WIDTH if c > 0.0 else -ROOM_HALF_WIDTH) - x) / c)
+    if s != 0.0:
+        t = min(t, ((ROOM_HALF_WIDTH if s > 0.0 else -ROOM_HALF_WIDTH) - y) / s)
+    return max(t, 0.05)
+
+
 class _Laser:
+    """One beam straight ahead at the walls of a square room: the range changes as the robot
+    moves, as a real scan's do (the safety gate stops a robot whose laser repeats itself while
+    it moves)."""
+
     mount = Pose2D()
 
     def __init__(self, robot: KinematicRobot) -> None:
         self.robot = robot
-        self._ranges = np.full(5, 5.0, np.float32)
         self._scan: LaserScan | None = None
 
     def scan(self) -> LaserScan:
         if self._scan is None or self._scan.stamp != self.robot.t:
-            self._scan = LaserScan(self.robot.t, -1.0, 1.0, 0.5, 0.0, 0.1, 0.05, 10.0,
-                                   self._ranges, _NO_INTENSITIES)
+            p = self.robot.pose
+            ranges = np.array([room_range(p.x, p.y, p.theta)], np.float32)
+            self._scan = LaserScan(self.robot.t, 0.0, 0.0, 1.0, 0.0, 0.1, 0.05, 10.0, ranges,
+                                   _NO_INTENSITIES)
         return self._scan
 
 
 class KinematicRobot:
-    """A RobotIO: a unicycle integrating the last command; never collides."""
+    """A RobotIO: a unicycle integrating the last command; never collides. Its laser sees the
+    walls of a square room around the origin (``room_range``)."""
 
     def __init__(self, pose: Pose2D = Pose2D()) -> None:
         self.t = 0.0

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import difflib
+import weakref
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping
 
@@ -222,8 +223,10 @@ class Parameters:
                                      f"'{name}'{suggest(name, self._specs)}")
             checked[name] = spec.check(value, self._where)
         previous = {n: self._values[n] for n in checked}
-        for call in self._before_change:
-            call(checked)
+        for hook in self._before_change:
+            call = hook() if isinstance(hook, weakref.WeakMethod) else hook
+            if call is not None:
+                call(checked)
         self._values.update(checked)
         # Mirror the values into the instance dict so that ``p.name`` is a plain attribute read
         # (components read dozens per control cycle; the ``__getattr__`` fall-back is ~1 us
@@ -233,10 +236,15 @@ class Parameters:
                 object.__setattr__(self, name, value)
         return previous
 
-    def before_change(self, call: Callable[[dict[str, Any]], None]) -> None:
+    def before_change(self, call: Callable[[dict[str, Any]], None], weak: bool = False) -> None:
         """Call ``call(new_values)`` before every accepted change (after validation), e.g. to
-        finish work that must still see the old values."""
-        self._before_change.append(call)
+        finish work that must still see the old values.
+
+        ``weak``: hold the bound method ``call`` weakly, for an object that owns these
+        parameters: a strong reference back would make a cycle that only the garbage collector
+        frees (a costmap's grids then outlive it until the next collection). The hook ends with
+        its object."""
+        self._before_change.append(weakref.WeakMethod(call) if weak else call)
 
     def as_dict(self) -> dict[str, Any]:
         return dict(self._values)

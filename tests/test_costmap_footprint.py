@@ -7,9 +7,16 @@ import math
 import numpy as np
 import pytest
 
+from navcore.costmap import footprint as footprint_module
 from navcore.costmap.footprint import (bound_reach, circumscribed_radius, footprint_cost,
-                                       inscribed_radius, make_footprint, square_max,
-                                       transform_footprint)
+                                       footprint_cost_plain, inscribed_radius, make_footprint,
+                                       square_max, transform_footprint)
+
+# Both compiled variants on every host; the vector row max is LLVM IR, which only the JIT runs
+# (without it footprint_cost is the plain variant, tested as such)
+VARIANTS = {"plain": footprint_cost_plain}
+if footprint_module.VECTOR_ROWS:
+    VARIANTS["vector"] = footprint_module.footprint_cost_vector
 
 RECT = [[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]]
 # a non-convex "L" footprint, to exercise the even-odd fill
@@ -98,8 +105,10 @@ def _brute_force(costs, ox, oy, res, fp, x, y, th):
     return best
 
 
+@pytest.mark.parametrize("variant", VARIANTS)
 @pytest.mark.parametrize("shape", ["rect", "radius", "ell"])
-def test_footprint_cost_matches_brute_force_on_random_poses(shape):
+def test_footprint_cost_matches_brute_force_on_random_poses(shape, variant):
+    footprint_cost = VARIANTS[variant]
     rng = np.random.default_rng(7)
     fp = {"rect": make_footprint(RECT), "radius": make_footprint(None, 0.3),
           "ell": make_footprint(ELL, footprint_padding=0.0)}[shape]
@@ -127,6 +136,16 @@ def test_footprint_cost_counts_cells_the_rim_only_grazes():
     assert footprint_cost(costs, 0.0, 0.0, 0.05, square, 0.499, 0.52, 0.0) == 0
 
 
+def test_the_costmaps_call_the_vector_variant_unless_told_otherwise():
+    # NAVBT_PLAIN_KERNELS=1 (and NUMBA_DISABLE_JIT=1) select the plain kernel
+    import os
+    plain = (os.environ.get("NAVBT_PLAIN_KERNELS") == "1"
+             or os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"))
+    assert footprint_module.VECTOR_ROWS is not plain
+    assert footprint_cost is (footprint_cost_plain if plain
+                              else footprint_module.footprint_cost_vector)
+
+
 def test_footprint_cost_sees_an_obstacle_strictly_inside():
     fp = make_footprint(RECT, footprint_padding=0.0)
     costs = np.zeros((100, 100), np.uint8)
@@ -137,11 +156,13 @@ def test_footprint_cost_sees_an_obstacle_strictly_inside():
     assert footprint_cost(costs, 0.0, 0.0, 0.05, fp, 0.1, 2.5, 0.0) == -1
 
 
+@pytest.mark.parametrize("variant", VARIANTS)
 @pytest.mark.parametrize("case", ["wide_rows", "heap_rows", "many_vertices", "narrow_map",
                                   "strided_costs"])
-def test_footprint_cost_matches_brute_force_beyond_the_common_sizes(case):
-    """The kernel's other paths: row spans longer than one vector load, more rows or vertices
-    than its stack scratch holds, maps narrower than a vector load, non-contiguous rows."""
+def test_footprint_cost_matches_brute_force_beyond_the_common_sizes(case, variant):
+    """The kernel's other paths: row spans longer than one vector load, many rows or vertices,
+    maps narrower than a vector load, non-contiguous rows."""
+    footprint_cost = VARIANTS[variant]
     rng = np.random.default_rng(11)
     res, ox, oy = 0.05, 0.0, 0.0
     h, w = 60, 60

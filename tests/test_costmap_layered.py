@@ -496,3 +496,21 @@ def test_nav2_style_plugin_types_inside_the_namespaces():
         name="local_costmap")
     assert [type(l).__name__ for l in cm.layers] == ["VoxelLayer", "InflationLayer"]
     assert cm.layer("voxel").params.z_voxels == 16
+
+
+def test_a_costmap_is_freed_as_soon_as_it_is_dropped():
+    # Its parameters call back into it before a change (the lazily added scan); held strongly,
+    # that hook made a cycle and every dropped costmap's grids waited for the garbage collector
+    # (a map-sized costmap built per call cost +35 % in allocation).
+    import gc
+    import weakref
+
+    cm = _local()
+    cm.update_map(Pose2D(0.0, 0.0, 0.0))
+    ref = weakref.ref(cm)
+    gc.disable()
+    try:
+        del cm
+        assert ref() is None
+    finally:
+        gc.enable()

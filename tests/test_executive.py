@@ -438,3 +438,22 @@ def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
     assert result.reason.startswith("INTERNAL_ERROR in '") and "TypeError" in result.reason
     assert "compute_velocity" in result.traceback
     assert sent and all(c.is_zero() for c in sent)
+
+
+@pytest.mark.parametrize("tree", ["nav2", "smach_recovery"])
+def test_the_noop_robot_drives_its_goals_through_the_safety_gate(tree):
+    # bench_executive times these trees driving the no-op robot to and fro. Its laser used to
+    # repeat one scan while the robot moved: a frozen sensor to the safety gate, which held the
+    # robot still while the tree spun through its recoveries.
+    from executive.loading import load_tree_file
+    from executive.noop import KinematicRobot, noop_components
+
+    ns = f"/noop_drive_{tree}"
+    robot = KinematicRobot()
+    ex = Executive(load_tree_file(f"trees/{tree}.yaml", namespace=ns), robot, SimClock(), 0.05,
+                   noop_components(), namespace=ns)
+    result = ex.run([Pose2D(3.0, 0.0), Pose2D(0.0, 0.0)], time_limit=60.0)
+    ex.shutdown()
+    assert result.outcome == "succeeded" and result.goals_reached == 2
+    assert result.recoveries == [] and "laser_frozen" not in ex.trace.faults
+    assert math.hypot(robot.pose.x, robot.pose.y) < 0.15

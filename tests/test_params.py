@@ -71,3 +71,32 @@ def test_before_change_sees_accepted_changes_before_they_apply() -> None:
     with pytest.raises(ParameterError):
         p.set({"vx_samples": 0})
     assert seen == [({"max_vel_x": 0.3}, 0.55)]
+
+
+def test_a_weak_method_hook_does_not_keep_its_object_alive() -> None:
+    # The owner of the parameters registers its own method: held strongly that is a cycle, and
+    # the owner (a costmap with its grids) outlived every use until the next garbage collection.
+    import gc
+    import weakref
+
+    class Owner:
+        def __init__(self) -> None:
+            self.params = Parameters(SPECS)
+            self.params.before_change(self.seen, weak=True)
+            self.calls = 0
+
+        def seen(self, values) -> None:
+            self.calls += 1
+
+    owner = Owner()
+    owner.params.max_vel_x = 0.3
+    assert owner.calls == 1
+    params, ref = owner.params, weakref.ref(owner)
+    gc.disable()
+    try:
+        del owner
+        assert ref() is None  # freed by reference counting alone
+    finally:
+        gc.enable()
+    params.max_vel_x = 0.2  # a dead owner's hook is skipped
+    assert params.max_vel_x == 0.2

@@ -3,16 +3,25 @@
 A footprint is an (N, 2) float64 polygon in the robot frame. ``footprint_cost`` is a numba kernel
 meant to be called from other kernels (the local planner scores hundreds of thousands of poses per
 cycle): it reads each covered cell once and allocates only two small scratch arrays.
+
+Two compiled variants of it (``footprint_cost_plain`` and ``footprint_cost_vector``) differ only
+in how they take the max of a row span: cell by cell, or 16 cells per masked vector load (LLVM
+IR, ``_lanes_max``). ``footprint_cost`` is the vector one unless NUMBA_DISABLE_JIT=1 or
+NAVBT_PLAIN_KERNELS=1 (docs/performance.md, "Footprint cost": what each buys).
 """
 
 from __future__ import annotations
 
 import ast
 import math
-from typing import Any
+import os
+from typing import Any, Callable
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 NUM_RADIUS_VERTICES = 16  # makeFootprintFromRadius uses a 16-gon
 
@@ -169,95 +178,166 @@ def _square_meets_polygon(footprint: np.ndarray, x: float, y: float, c: float, s
     return False
 
 
-@njit(cache=True, nogil=True)
-def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
-                   footprint: np.ndarray, x: float, y: float, theta: float) -> int:
-    """Max cost of the cells the footprint covers at pose (x, y, theta): every cell its outline
-    passes through and every cell inside it (a conservative rasterisation: no cell the robot
-    overlaps is missed). -1 if any vertex is off the map. ``costs``: a uint8 cost grid [my, mx].
+LANES = 16  # cells read per vector load when taking the max of a row span
 
-    Row band by row band (cell rows), the parts of the edges within a band give its x extent.
-    Edge by edge, each edge widens the extents of the bands it crosses: short loops with few
-    data-dependent branches. For a convex footprint the covered cells of a row are that one
-    span; a non-convex one checks each cell of the span exactly.
-    """
-    n = footprint.shape[0]
-    size_y = costs.shape[0]
-    size_x = costs.shape[1]
-    c = math.cos(theta)
-    s = math.sin(theta)
-    inv = 1.0 / resolution
-    vert = np.empty((2, n))
-    vmin = 1e300
-    vmax = -1e300
-    on_map = True
-    for k in range(n):
-        u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
-        on_map &= u >= 0.0 and v >= 0.0 and u < size_x and v < size_y  # False for NaN too
-        vert[0, k] = u
-        vert[1, k] = v
-        vmin = min(vmin, v)
-        vmax = max(vmax, v)
-    if not on_map:
-        return -1
-    r0 = int(vmin)
-    rows = int(vmax) - r0 + 1
-    # convex iff the turns never change sign (collinear vertices do not count)
-    left = False
-    right = False
-    au, av = vert[0, n - 2], vert[1, n - 2]
-    bu, bv = vert[0, n - 1], vert[1, n - 1]
-    for k in range(n):
-        cu, cv = vert[0, k], vert[1, k]
-        cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
-        left |= cross > 0.0
-        right |= cross < 0.0
-        au, av, bu, bv = bu, bv, cu, cv
-    convex = not (left and right)
-    ext = np.empty((2, rows))
-    for r in range(rows):
-        ext[0, r] = 1e300
-        ext[1, r] = -1e300
-    # edge k - 1 -> k widens every band it meets by its part inside (a horizontal edge whole)
-    au, av = vert[0, n - 1], vert[1, n - 1]
-    for k in range(n):
-        bu, bv = vert[0, k], vert[1, k]
-        e0 = min(av, bv)
-        e1 = max(av, bv)
-        if e0 == e1:
-            r = int(e0) - r0
-            ext[0, r] = min(ext[0, r], min(au, bu))
-            ext[1, r] = max(ext[1, r], max(au, bu))
-        else:
-            slope = (bu - au) / (bv - av)
-            xa = au + (e0 - av) * slope
-            for row in range(int(e0), int(e1) + 1):
-                xb = au + (min(e1, row + 1.0) - av) * slope
-                r = row - r0
-                ext[0, r] = min(ext[0, r], min(xa, xb))
-                ext[1, r] = max(ext[1, r], max(xa, xb))
-                xa = xb  # where the edge leaves this band it enters the next: the same number
-        au, av = bu, bv
-    best = 0
-    for r in range(rows):
-        row = r0 + r
-        m0 = int(ext[0, r])
-        m1 = min(int(ext[1, r]), size_x - 1)
-        if convex:
-            rb = np.uint8(0)
-            # unsigned column indices: no negative-index wraparound, so plain loads
-            for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
-                rb = max(rb, costs[row, mx])
-            if rb > best:
-                best = np.int64(rb)
-                if best == 255:  # nothing can be higher
-                    return best
-        else:
-            for mx in range(m0, m1 + 1):
-                if costs[row, mx] > best and _square_meets_polygon(
-                        footprint, x, y, c, s, origin_x, origin_y, inv, mx, row):
-                    best = np.int64(costs[row, mx])
-    return best
+
+@intrinsic
+def _lanes_max(typingctx, arr, row, start, skip, count, width):  # type: ignore[no-untyped-def]
+    """Max of arr[row, start + i] over the lanes skip <= i < skip + count of one ``width``-cell
+    (a literal) unaligned vector load, others masked to 0. The caller keeps start + width
+    within the row and the row contiguous. A loop over a short span runs scalar (the loop
+    vectoriser wants far longer rows, and numba leaves LLVM's SLP vectoriser off); this reads
+    up to ``width`` cells without a branch."""
+    if not (isinstance(arr, types.Array) and arr.ndim == 2 and arr.dtype == types.uint8
+            and isinstance(width, types.IntegerLiteral)):
+        return None
+    w = width.literal_value
+
+    def codegen(context, builder, sig, args):  # type: ignore[no-untyped-def]
+        a = context.make_array(sig.args[0])(context, builder, args[0])
+        ptr = cgutils.get_item_pointer(context, builder, sig.args[0], a, [args[1], args[2]],
+                                       wraparound=False)
+        i8, i32 = ir.IntType(8), ir.IntType(32)
+        vec = ir.VectorType(i8, w)
+
+        def splat(value):  # type: ignore[no-untyped-def]  # the low byte of an int64, every lane
+            one = builder.insert_element(ir.Constant(vec, ir.Undefined),
+                                         builder.trunc(value, i8), i32(0))
+            return builder.shuffle_vector(one, ir.Constant(vec, ir.Undefined),
+                                          ir.Constant(ir.VectorType(i32, w), [0] * w))
+        cells = builder.load(builder.bitcast(ptr, vec.as_pointer()), align=1)
+        lane = ir.Constant(vec, [i8(i) for i in range(w)])
+        # lane - skip < count, unsigned: lanes before skip wrap to large values
+        keep = builder.icmp_unsigned("<", builder.sub(lane, splat(args[3])), splat(args[4]))
+        cells = builder.select(keep, cells, ir.Constant(vec, [i8(0)] * w))
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(i8, [vec]),
+                                            f"llvm.vector.reduce.umax.v{w}i8")
+        return builder.call(fn, [cells])
+    return types.uint8(arr, row, start, skip, count, width), codegen
+
+
+def _make_footprint_cost(vector_rows: bool) -> Callable[..., int]:
+    """``footprint_cost`` compiled with (``vector_rows``) or without the vector row max: the
+    flag is a constant of the closure, so each variant carries only its own code and has its
+    own numba cache entry."""
+
+    @njit(cache=True, nogil=True)
+    def footprint_cost(costs: np.ndarray, origin_x: float, origin_y: float, resolution: float,
+                       footprint: np.ndarray, x: float, y: float, theta: float) -> int:
+        """Max cost of the cells the footprint covers at pose (x, y, theta): every cell its
+        outline passes through and every cell inside it (a conservative rasterisation: no cell
+        the robot overlaps is missed). -1 if any vertex is off the map. ``costs``: a uint8 cost
+        grid [my, mx].
+
+        Row band by row band (cell rows), the parts of the edges within a band give its x
+        extent. Edge by edge, each edge widens the extents of the bands it crosses: short loops
+        with few data-dependent branches. For a convex footprint the covered cells of a row are
+        that one span; a non-convex one checks each cell of the span exactly.
+        """
+        n = footprint.shape[0]
+        size_y = costs.shape[0]
+        size_x = costs.shape[1]
+        c = math.cos(theta)
+        s = math.sin(theta)
+        inv = 1.0 / resolution
+        vert = np.empty((2, n))
+        vmin = 1e300
+        vmax = -1e300
+        on_map = True
+        for k in range(n):
+            u, v = _place(footprint[k, 0], footprint[k, 1], x, y, c, s, origin_x, origin_y, inv)
+            # False for NaN too
+            on_map &= u >= 0.0 and v >= 0.0 and u < size_x and v < size_y
+            vert[0, k] = u
+            vert[1, k] = v
+            vmin = min(vmin, v)
+            vmax = max(vmax, v)
+        if not on_map:
+            return -1
+        r0 = int(vmin)
+        rows = int(vmax) - r0 + 1
+        # convex iff the turns never change sign (collinear vertices do not count)
+        left = False
+        right = False
+        au, av = vert[0, n - 2], vert[1, n - 2]
+        bu, bv = vert[0, n - 1], vert[1, n - 1]
+        for k in range(n):
+            cu, cv = vert[0, k], vert[1, k]
+            cross = (bu - au) * (cv - bv) - (bv - av) * (cu - bu)
+            left |= cross > 0.0
+            right |= cross < 0.0
+            au, av, bu, bv = bu, bv, cu, cv
+        convex = not (left and right)
+        ext = np.empty((2, rows))
+        for r in range(rows):
+            ext[0, r] = 1e300
+            ext[1, r] = -1e300
+        # edge k - 1 -> k widens every band it meets by its part inside (a horizontal
+        # edge whole)
+        au, av = vert[0, n - 1], vert[1, n - 1]
+        for k in range(n):
+            bu, bv = vert[0, k], vert[1, k]
+            e0 = min(av, bv)
+            e1 = max(av, bv)
+            if e0 == e1:
+                r = int(e0) - r0
+                ext[0, r] = min(ext[0, r], min(au, bu))
+                ext[1, r] = max(ext[1, r], max(au, bu))
+            else:
+                slope = (bu - au) / (bv - av)
+                xa = au + (e0 - av) * slope
+                for row in range(int(e0), int(e1) + 1):
+                    xb = au + (min(e1, row + 1.0) - av) * slope
+                    r = row - r0
+                    ext[0, r] = min(ext[0, r], min(xa, xb))
+                    ext[1, r] = max(ext[1, r], max(xa, xb))
+                    xa = xb  # where the edge leaves this band it enters the next
+            au, av = bu, bv
+        best = 0
+        wide_rows = size_x >= LANES and costs.strides[1] == 1  # a whole load fits in a row
+        for r in range(rows):
+            row = r0 + r
+            m0 = int(ext[0, r])
+            m1 = min(int(ext[1, r]), size_x - 1)
+            if convex:
+                rb = np.uint8(0)
+                if vector_rows and wide_rows:
+                    # written out here: a helper taking the array costs a refcount
+                    start = m0
+                    left_over = m1 - m0 + 1
+                    while left_over > LANES:
+                        rb = max(rb, _lanes_max(costs, row, start, 0, LANES, LANES))
+                        start += LANES
+                        left_over -= LANES
+                    at = min(start, size_x - LANES)  # the last load ends inside the row
+                    rb = max(rb, _lanes_max(costs, row, at, start - at, left_over, LANES))
+                else:
+                    # unsigned column indices: no negative-index wraparound, so plain loads
+                    for mx in range(np.uint64(m0), np.uint64(m1 + 1)):
+                        rb = max(rb, costs[row, mx])
+                if rb > best:
+                    best = np.int64(rb)
+                    if best == 255:  # nothing can be higher
+                        return best
+            else:
+                for mx in range(m0, m1 + 1):
+                    if costs[row, mx] > best and _square_meets_polygon(
+                            footprint, x, y, c, s, origin_x, origin_y, inv, mx, row):
+                        best = np.int64(costs[row, mx])
+        return best
+    
+    
+    return footprint_cost
+
+
+footprint_cost_plain = _make_footprint_cost(False)
+footprint_cost_vector = _make_footprint_cost(True)
+# the variant the costmaps and controllers call (an intrinsic has no Python form: plain without
+# the JIT). Kernels that call it are cached with the variant they were compiled with: after
+# switching NAVBT_PLAIN_KERNELS, run on a fresh NUMBA_CACHE_DIR.
+VECTOR_ROWS = not (os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
+                   or os.environ.get("NAVBT_PLAIN_KERNELS") == "1")
+footprint_cost = footprint_cost_vector if VECTOR_ROWS else footprint_cost_plain
 
 
 @njit(cache=True, nogil=True)

@@ -178,7 +178,7 @@ class LayeredCostmap:
         # a kept scan is added with the parameters it arrived under (obstacle_range, heights,
         # persistence...), as it would have been at once
         for p in self.parameter_namespaces().values():
-            p.before_change(self._add_pending_scan)
+            p.before_change(self._add_pending_scan, weak=True)  # no cycle through them
 
     # ------------------------------------------------------------ construction
 
