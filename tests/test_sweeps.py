@@ -171,6 +171,31 @@ def test_pool_and_dask_give_identical_records(tmp_path, catalogue):
     assert (again.skipped, again.ran) == (12, 0)
 
 
+def _is_warm() -> bool:
+    from executive.sweeps import runner
+    return runner.warmed
+
+
+def test_dask_workers_that_join_later_are_warmed_too():
+    """The warm-up is a worker plugin: a worker that joins after the client registered it (a
+    cluster scaled up, a restarted worker) warms before its first run as well."""
+    pytest.importorskip("dask.distributed")
+    from executive.sweeps.runner import dask_client
+    client = dask_client("local", 1)
+    try:
+        assert list(client.run(_is_warm).values()) == [True]
+        client.cluster.scale(2)
+        client.wait_for_workers(2, timeout=120)
+        deadline = time.monotonic() + 120   # the new worker's plugin setup runs in the background
+        while not all(client.run(_is_warm).values()) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert list(client.run(_is_warm).values()) == [True, True]
+    finally:
+        cluster = client.cluster
+        client.close()
+        cluster.close()
+
+
 def test_a_run_that_raises_is_an_error_record_and_the_sweep_goes_on(tmp_path, catalogue):
     broken = dict(SCENARIO_A, name="broken", params={"DWAPlannerROS": {"sim_time": 1.0}})
     _write(catalogue / "zz_broken.yaml", broken)

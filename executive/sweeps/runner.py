@@ -26,6 +26,7 @@ MAX_WORKER_DEATHS = 2   # a run whose worker died this often is recorded as an e
 
 _scenarios: dict[str, Any] = {}
 _tree_dir: str | None = None
+warmed = False   # this process has run warm_worker
 
 
 def navbt_version() -> str:
@@ -38,12 +39,14 @@ def navbt_version() -> str:
 
 def warm_worker() -> str:
     """Compile (or load from numba's cache) the kernels a run needs, once per worker process."""
+    global warmed
     from executive.scenario import run_scenario, scenario_from_mapping
     from executive.loading import shipped_tree
     doc = {"name": "warmup", "map": {"resolution": 0.1, "ascii": "\n".join(
         ["#" * 24] + ["#" + "." * 22 + "#"] * 10 + ["#" * 24])},
         "start": [0.5, 0.5, 0.0], "goals": [[1.5, 0.5, 0.0]], "time_limit": 5}
     run_scenario(scenario_from_mapping(doc, "<warmup>"), shipped_tree("smach_recovery"))
+    warmed = True
     return f"{socket.gethostname()}:{os.getpid()}"
 
 
@@ -137,7 +140,6 @@ class Executor:
         if self.dask:
             if self._client is None:
                 self._client = dask_client(self.dask, self.jobs)
-                self._client.run(warm_worker)
             run_dask(tasks, self._client, on_result)
         elif self.jobs == 1:
             run_serial(tasks, on_result)
@@ -202,8 +204,9 @@ class Executor:
 
 
 def dask_client(address: str, jobs: int) -> Any:
-    """A dask.distributed Client: ``local`` starts a LocalCluster of ``jobs`` single-threaded
-    worker processes on 127.0.0.1; anything else is a scheduler address (tcp://host:8786)."""
+    """A dask.distributed Client whose workers warm their kernels once (``WarmKernels``):
+    ``local`` starts a LocalCluster of ``jobs`` single-threaded worker processes on 127.0.0.1;
+    anything else is a scheduler address (tcp://host:8786)."""
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
@@ -213,8 +216,12 @@ def dask_client(address: str, jobs: int) -> Any:
         with dask.config.set(QUIET_WORKERS):   # the nannies hand this config to their workers
             cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
                                    host="127.0.0.1", dashboard_address=None)
-        return Client(cluster)
-    return Client(address)
+        client = Client(cluster)
+    else:
+        client = Client(address)
+    from executive.sweeps.dask_plugin import WarmKernels
+    client.register_plugin(WarmKernels())   # returns when every present worker is warm
+    return client
 
 
 # What a LocalCluster's workers do besides running tasks, slowed to what a sweep needs. By
@@ -233,7 +240,7 @@ QUIET_WORKERS = {
 
 
 def run_dask(tasks: list[RunTask], client: Any, on_result: OnResult) -> None:
-    """On a Dask cluster whose workers are warm (``client.run(warm_worker)``); dask re-runs a
+    """On a Dask cluster whose workers are warm (``WarmKernels``); dask re-runs a
     task whose worker died, and a task that keeps killing workers is recorded as an error."""
     from dask.distributed import as_completed
     futures = client.map(run_task, tasks, pure=False)
