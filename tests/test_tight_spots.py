@@ -349,3 +349,42 @@ def test_start_escape_fails_cleanly_when_nothing_frees_the_footprint():
     status, ticks, _ = rig.run(rig.node("StartEscape"))
     assert (status, ticks) == (Status.FAILURE, 1)
     assert rig.get("start_escape_error_code") == RecoveryError.NO_FREE_POSE
+
+
+# ------------------------------------------------------------------------------ the tree
+
+
+def test_smach_tree_lines_up_then_enters_a_bay_straight():
+    """The shipped tree on scripted components and a real costmap: a narrow goal is reached by
+    the pre-pose leg (FollowPath to the pre-pose) and then ApproachStraight, no recovery."""
+    from py_trees.visitors import VisitorBase
+
+    from behaviors.testing import ScriptedController, ScriptedPlanner, run_tree
+    from executive.tree_loader import load_tree, shipped_tree
+
+    g = room()
+    goal = bay(g, "south", 0.72)
+    cm = costmap(g)
+    w = World(robot=FakeRobot(Pose2D(goal.x, 3.4, -math.pi / 2)), local_costmap=cm,
+              global_costmap=cm, planner=ScriptedPlanner(), controller=ScriptedController(),
+              control_period=0.1)
+    tree = load_tree(shipped_tree("smach_recovery"), namespace=f"/tightree{next(_ns)}")
+    done = {}
+
+    class Visits(VisitorBase):
+        def run(self, node):
+            if node.status in (Status.SUCCESS, Status.FAILURE):
+                done.setdefault(node.name, []).append(node.status)
+
+    tree.tree.add_visitor(Visits(full=False))
+    tree.setup(**w.components())
+    tree.set("goal", goal)
+    status, ticks = run_tree(tree, w, max_ticks=3000)
+    end = w.robot.pose()
+    assert status == Status.SUCCESS
+    assert end.distance_to(goal) <= 0.05 and abs(line_offsets(goal, end)[2]) <= 0.05
+    assert done["IsGoalInNarrowSpace"][0] == Status.SUCCESS
+    assert Status.SUCCESS in done["FollowPathToPrePose"]          # lined up first
+    assert done["ApproachStraight"] == [Status.SUCCESS]           # then in, straight, once
+    assert "FollowPath" not in done                                # never the usual follow
+    assert w.planner.goals[0].distance_to(goal) >= 1.0            # planned to the pre-pose
