@@ -99,7 +99,15 @@ def test_seeds_forms():
      "search_radius"),
     ("scenarios: scenarios/*.yaml\nsearch:\n  DWAPlannerROS.sim_time: {low: 3, high: 1}\n", 3,
      "high"),
+    # an integer parameter searched over a float range: Optuna would propose 1.5
+    ("scenarios: scenarios/*.yaml\nsearch:\n  DWAPlannerROS.vx_samples: {low: 1, high: 20, "
+     "step: 0.5}\n", 3, "must be an integer"),
     ("scenarios: [scenarios/*.yaml\n", 2, "not valid YAML"),
+    ("- scenarios/*.yaml\n", 1, "must be a mapping"),
+    ("grid:\n  DWAPlannerROS.sim_time: [1.0]\n", 1, "scenarios: missing"),
+    # YAML would keep the second axis and drop the first one's values silently
+    ("scenarios: scenarios/*.yaml\ngrid:\n  DWAPlannerROS.sim_time: [1.0]\n"
+     "  DWAPlannerROS.sim_time: [2.0]\n", 4, "appears twice"),
     # a bad value is named at its own line, wherever the point takes it from
     ("scenarios: scenarios/*.yaml\npoints:\n  - {DWAPlannerROS.sim_time: 1.0}\n"
      "  - {DWAPlannerROS.sim_tiem: 2.0}\n", 4, "sim_tiem"),

@@ -125,9 +125,7 @@ class _Where:
         p = path
         while p and p not in self.lines:
             p = p[:-1]
-        line = self.lines.get(p)
-        at = f"{self.source}:{line}" if line else self.source
-        return SweepError(f"{at}: {what}")
+        return SweepError(f"{self.source}:{self.lines.get(p, 1)}: {what}")
 
 
 # --------------------------------------------------------------------------- parsing
@@ -343,6 +341,7 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     except OSError as e:
         raise SweepError(f"{path}: cannot read sweep file ({e.strerror or e})") from None
     doc, lines = parse_yaml_lines(text, path, error=SweepError)
+    _refuse_duplicate_keys(text, path)
     err = _Where(path, lines)
     if not isinstance(doc, Mapping):
         raise err((), "a sweep file must be a mapping")
@@ -383,6 +382,27 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     return spec
 
 
+def _refuse_duplicate_keys(text: str, path: str) -> None:
+    """YAML keeps the last of two equal keys: an axis written twice would lose its first values
+    without a word."""
+    import yaml
+    from navcore.safe_read import compose_yaml
+    stack = [compose_yaml(text, path, error=SweepError)]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, yaml.MappingNode):
+            seen: set[str] = set()
+            for k, v in node.value:
+                if isinstance(k, yaml.ScalarNode):
+                    if k.value in seen:
+                        raise SweepError(f"{path}:{k.start_mark.line + 1}: '{k.value}' appears "
+                                         f"twice in the same mapping")
+                    seen.add(k.value)
+                stack.append(v)
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+
+
 def check_spec(spec: SweepSpec, err: _Where,
                origins: list[dict[str, tuple]] | None = None) -> None:
     """Load every scenario and tree, and apply every point (and the search bounds) to them, so
@@ -408,7 +428,8 @@ def check_spec(spec: SweepSpec, err: _Where,
         where = origins[i] if origins is not None else {}
         probes.append((where.get(next(iter(p), ""), ()), p, where))
     for d in spec.search:
-        for v in (d.choices or (d.low, d.high)):
+        # a value between the bounds too: a float range on an integer parameter fails only there
+        for v in (d.choices or (d.low, d.high, (d.low + d.high) / 2)):
             if d.integer and v is not None:
                 v = int(v)
             probes.append((("search", d.key), {d.key: v}, {}))
