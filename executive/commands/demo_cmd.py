@@ -29,6 +29,7 @@ def run(args: argparse.Namespace) -> int:
     import os
 
     from executive.commands._common import config_sources, fail
+    from executive.config import ConfigSources
     from executive.api import ConfigError, TreeLoadError, WiringError, shipped_tree
     from executive.progress import Progress, progress_callback
     from executive.scenario import ScenarioError, load_scenario, run_scenario
@@ -36,17 +37,26 @@ def run(args: argparse.Namespace) -> int:
     scenario = load_scenario(os.path.join(here, "data", "demo.yaml"))
     tree = args.tree or shipped_tree("smach_recovery")
     out = args.out or _fresh_dir(os.path.abspath("mission-demo"))
-    from executive.commands.warmup_cmd import announce_compiling
+    from executive.commands.warmup_cmd import (announce_compiling, kernels_cold,
+                                               start_navigation_warmup)
     progress = Progress()
     print(f"demo: {scenario.description.splitlines()[0] if scenario.description else scenario.name}")
-    announce_compiling()
+    cold = kernels_cold()
+    announce_compiling(cold=cold)
+    sources = config_sources(args)
+    # the second compiling process knows only the bundled robot's planners
+    default_robot = sources == ConfigSources()
+    helper = start_navigation_warmup() if cold and default_robot else None
     try:
-        r = run_scenario(scenario, tree, record_dir=out, config_path=config_sources(args),
+        r = run_scenario(scenario, tree, record_dir=out, config_path=sources,
                          on_tick=progress_callback(progress, scenario.time_limit,
                                                    goals=scenario.goals))
     except (ScenarioError, TreeLoadError, WiringError, ConfigError) as e:
         progress.done()
         return fail("demo", str(e))
+    finally:
+        if helper is not None:
+            helper.wait()
     progress.done()
     if r.outcome == "error":
         return fail("demo", r.detail)

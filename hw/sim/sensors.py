@@ -32,7 +32,7 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
     one at a time in the beam loop, the scan measured 1.6 % slower."""
     n = out.shape[0]
     ranges = np.empty(n, np.float64)
-    hits = 0
+    hits = np.int64(0)  # a literal 0 here would compile standard_normals a second time
     gx = (x - ox) / res
     gy = (y - oy) / res
     t_end = range_max / res
@@ -68,7 +68,7 @@ def scan_ranges(clear: np.ndarray, ox: float, oy: float, res: float, x: float, y
         ranges[i] = r
         if r < range_max:
             hits += 1
-    normals = standard_normals(seed, hits if noise_std > 0.0 else 0)
+    normals = standard_normals(seed, hits if noise_std > 0.0 else np.int64(0))
     k = 0
     for i in range(n):
         r = ranges[i]

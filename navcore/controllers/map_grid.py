@@ -38,7 +38,10 @@ def densify_plan(poses: np.ndarray, resolution: float) -> np.ndarray:
             steps[i - 1] = int(math.ceil(math.sqrt(d2) / resolution))
         total += steps[i - 1]
     out = np.empty((total, 3))
-    out[0] = poses[0]
+    # rows copied element by element: a row assignment pulls in numba's shape-error message
+    # formatting (about 2 s of compiling on the first run)
+    for c in range(3):
+        out[0, c] = poses[0, c]
     k = 1
     for i in range(1, n):
         m = steps[i - 1]
@@ -49,7 +52,8 @@ def densify_plan(poses: np.ndarray, resolution: float) -> np.ndarray:
             out[k, 1] = poses[i - 1, 1] + j * dy
             out[k, 2] = poses[i - 1, 2]
             k += 1
-        out[k] = poses[i]
+        for c in range(3):
+            out[k, c] = poses[i, c]
         k += 1
     return out
 
