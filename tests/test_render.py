@@ -39,17 +39,20 @@ def test_groot_like_picture_of_a_shipped_tree():
         assert "<b>" in lines[i] and t in lines[i]
         if n.name != t:  # a custom name keeps the type visible
             assert n.name in lines[i]
-    # both SubTree instances are framed clusters with their name
-    assert dot.count("subgraph cluster_") == 2
-    assert "<b>SubTree</b> Navigate" in dot and "<b>SubTree</b> Escalation" in dot
+    # every SubTree instance is a framed cluster with its name
+    subtrees = ("FreeTheStart", "NavigateWithEscalation", "NavigateByGoalSpace",
+                "LineUpAndEnter", "Navigate", "Escalation")
+    assert dot.count("subgraph cluster_") == len(subtrees)
+    for name in subtrees:
+        assert f"<b>SubTree</b> {name}<" in dot, name
     assert "SmachRecovery" in dot and ">condition<" in dot  # title and legend
     assert len(re.findall(r"^\s*n\d+ -> n\d+;", dot, re.M)) == len(nodes) - 1
     # ports on request: non-default constants and blackboard keys
     ported = tree_dot(root, ports=True)
     rate = _node_lines(ported)[[type(n).__name__ for n in nodes].index("RateController")]
     assert "hz: 1<" in rate
-    plan = _node_lines(ported)[[type(n).__name__ for n in nodes].index("ComputePathToPose")]
-    assert "goal: {goal}" in plan and "path \u2192 {path}" in plan
+    plan = _node_lines(ported)[[n.name for n in nodes].index("ComputePathToPrePose")]
+    assert "goal: {pre_pose}" in plan and "path \u2192 {path}" in plan
     assert "use_start" not in plan  # left at its default
     # collapsing a subtree: one folder node counting its nodes, none of its nodes drawn
     collapsed = tree_dot(root, collapse=["Escalation"])
