@@ -811,3 +811,23 @@ write("doorway_blocked_in_view",
         recoveries: {none_of: [ClearGlobalBeforeDetour]}
         max_time: 45
       """)
+
+g = G(70, 40)
+g.fill(29, 31, 29, 38, "#"); g.fill(37, 31, 37, 38, "#")   # bay x 3.0..3.7 (0.7 m), 0.8 m deep
+write("park_and_leave_bay",
+      "Park facing into a bay 0.7 m wide at the north wall (within 10 cm and 0.1 rad), then leave "
+      "it for a goal back across the room. Getting out means backing straight out the way it "
+      "came in, through space the laser, facing the bay's end, does not see.", g, """
+      start: [1.0, 1.0, 0.0]
+      goals: [[3.35, 3.45, 1.5708], [1.0, 1.0, 3.1416]]
+      params:
+        DWAPlannerROS: {xy_goal_tolerance: 0.1, yaw_goal_tolerance: 0.1}
+        global_costmap: {inflation_layer: {inflation_radius: 0.3}}
+        local_costmap: {inflation_layer: {inflation_radius: 0.3}}
+      time_limit: 90
+      expect:
+        outcome: succeeded
+        no_collision: true
+        goals_reached: 2
+        recoveries: {at_most: 3}
+      """)
