@@ -190,3 +190,32 @@ def test_pieces_in_sight_of_the_robot_come_before_the_unseen_inside_of_a_box():
     assert inside[0] > 1.1 and outside[0] < 1.0
     assert free_candidates(g, goal, 0.3, seen_from=(0.3, 1.5)) == [outside, inside]
     assert free_candidates(g, goal, 0.3, seen_from=(2.5, 1.5)) == [inside, outside]
+
+
+def test_the_smach_tree_ends_at_the_substitute_and_says_so():
+    """A goal just inside a box the map lacks (the catalogue's pallet, run here to read the
+    blackboard): SUCCESS at the free pose NearestFreeGoal chose, goal_substituted true."""
+    from pathlib import Path as FsPath
+
+    import py_trees
+
+    from executive.scenarios.parse import load_scenario
+    from executive.scenarios.run import run_scenario
+    root = FsPath(__file__).resolve().parent.parent
+    seen = {}
+
+    def on_tick(ex) -> None:
+        storage = py_trees.blackboard.Blackboard.storage
+        for key in ("free_goal", "goal_substituted"):
+            value = storage.get(f"{ex.namespace}/{key}")
+            if value is not None:
+                seen[key] = value
+
+    sc = load_scenario(root / "tests" / "scenarios" / "goal_on_unseen_pallet.yaml")
+    r = run_scenario(sc, str(root / "trees" / "smach_recovery.yaml"), on_tick=on_tick)
+    assert r.outcome == "succeeded" and r.collisions == 0
+    assert seen["goal_substituted"] is True
+    sub, goal = seen["free_goal"], Pose2D(4.1, 1.6, 0.0)
+    assert 0.2 < sub.distance_to(goal) <= 0.5 * np.sqrt(2) and sub.x < 4.0    # outside the box
+    x, y, _ = r.final_pose
+    assert np.hypot(x - sub.x, y - sub.y) <= 0.25        # the controller's xy_goal_tolerance
