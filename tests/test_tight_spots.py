@@ -284,6 +284,13 @@ def test_narrow_condition_pre_pose_and_straight_entry_park_in_a_bay(side, width)
     lined.tick_once()
     assert lined.status == Status.FAILURE                 # the robot is off the line
     # stand roughly at the pre-pose (6 cm beside, 0.1 rad off, as a local planner leaves it)
+    for off in (Pose2D(0.0, 0.15, 0.0), Pose2D(0.0, 0.0, 0.3), Pose2D(-1.2, 0.0, 0.0)):
+        rig.world.robot.teleport(p.compose(off))      # beside, askew, too far out
+        lined.tick_once()
+        assert lined.status == Status.FAILURE, off
+    rig.world.robot.teleport(goal.compose(Pose2D(0.1, 0.0, 0.0)))   # past the goal
+    lined.tick_once()
+    assert lined.status == Status.FAILURE
     rig.world.robot.teleport(p.compose(Pose2D(0.0, 0.06, 0.1)))
     lined.tick_once()
     assert lined.status == Status.SUCCESS

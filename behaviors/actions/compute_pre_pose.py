@@ -15,8 +15,9 @@ class ComputePrePose(Leaf):
     there without entering the narrow part (less than ``narrow_margin`` m per side beyond the
     footprint); the first such pose, a cell at a time up to ``max_extra`` m farther, whose
     footprint is free on the ``costmap`` (below the inscribed cost) and from which the straight
-    way to the goal touches no lethal cell. SUCCESS with it written; FAILURE when there is
-    none (or no goal).
+    way to the goal is passable (``navcore.motion.line_up``). SUCCESS with it written; FAILURE
+    when there is none (or no goal). (Nav2's docking server lines up the same way on a staging
+    pose, ``staging_x_offset`` behind the dock; here the offset follows from the space.)
     """
 
     INPUT_PORTS = {
