@@ -1,4 +1,5 @@
-"""Costmap benchmark: static + inflation builds, inflation alone, a local update, footprint costs.
+"""Costmap benchmark: static + inflation builds, inflation alone, a local update, footprint costs,
+the observed-space memory (a scan stamped, a back-up checked).
 
     python bench/bench_costmap.py [--json] [--repeat N]
 
@@ -122,6 +123,33 @@ def bench_local_update(repeat: int) -> float:
     return _best_ms(run, repeat)
 
 
+def bench_observed_space(repeat: int) -> tuple[float, float]:
+    """One cycle of the observed-space memory (8 x 8 m at 0.05 m, a 720-beam scan, the body)
+    and one motion check (a 0.3 m back-up of the bundled robot in 0.05 m steps), in ms."""
+    from navcore.costmap.observed_space import ObservedSpace
+    fp = [[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]]
+    space = ObservedSpace.around(0.05, 8.0, 8.0, fp, make_footprint(fp, footprint_padding=0.03))
+    n = 720
+    inc = 2 * math.pi / n
+    rng = np.random.default_rng(0)
+    state = {"k": 0}
+
+    def cycle() -> None:
+        k = state["k"]
+        state["k"] += 1
+        ranges = (1.0 + 1.5 * rng.random(n)).astype(np.float32)
+        scan = LaserScan(0.0, -math.pi, -math.pi + inc * (n - 1), inc, 0.0, 0.1, 0.05, 30.0,
+                         ranges)
+        pose = Pose2D(0.02 * k, 0.01 * k, 0.01 * k)
+        space.update(pose, scan, pose.compose(Pose2D(0.15, 0.0, 0.0)), 0.1 * k)
+
+    update = _best_ms(cycle, repeat)
+    pose = Pose2D(0.02 * state["k"], 0.01 * state["k"], 0.0)
+    back = [pose.compose(Pose2D(-0.05 * i, 0.0, 0.0)) for i in range(1, 7)]
+    check = _best_ms(lambda: space.first_unobserved(back, pose, -1.0), repeat)
+    return update, check
+
+
 @njit(cache=True)
 def _many_footprint_costs(costs, ox, oy, res, fp, poses) -> int:
     total = 0
@@ -174,6 +202,11 @@ def main(argv: list[str] | None = None) -> int:
     figures["local_update_cpu_ms"] = round(CPU["last"], 3)
     print(f"local rolling update 6x6 m, 720 beams, inflation: {ms:8.3f} ms wall, "
           f"{CPU['last']:.3f} ms CPU")
+    update, check = bench_observed_space(max(args.repeat, 20))
+    figures["observed_space_update_ms"] = round(update, 3)
+    figures["observed_space_backup_check_ms"] = round(check, 3)
+    print(f"observed space 8x8 m, 720 beams + body: {update:8.3f} ms; 0.3 m back-up check: "
+          f"{check:8.3f} ms")
     ms = bench_footprint(args.repeat)
     figures["footprint_1m_ms"] = round(ms, 2)
     figures["footprint_1m_cpu_ms"] = round(CPU["last"], 2)

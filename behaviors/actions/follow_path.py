@@ -11,7 +11,9 @@ from behaviors.base import FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortI
 from navcore.controllers.progress import ProgressChecker
 from navcore.controllers.result import ControlStatus
 from navcore.error_codes import CONTROL_CODES, ControllerError
-from navcore.controllers.rotation_shim import RotationShim, ShimParams
+from behaviors.actions.recovery_action import OBSERVED_WITHIN
+from navcore.controllers.rotation_shim import RotationShim, ShimParams, turn_toward_path
+from navcore.motion.pursuit import swept_poses
 from navcore.path_ops import TrackingFeedback, tracking_feedback
 from navcore.types import Path, Pose2D, Twist
 
@@ -35,6 +37,12 @@ class FollowPath(Leaf):
       turn on the spot at ``rotate_to_heading_angular_vel`` (``max_angular_accel``) instead of
       asking the controller, which could follow it backwards; a turn whose footprint hits the
       local costmap within ``simulate_ahead_time`` s counts as no valid command.
+    * Whatever ``rotate_to_heading`` says, a command that drives backwards into space the
+      sensors have not seen free within ``observed_within`` s (the ``observed_space`` memory,
+      over ``simulate_ahead_time`` s of it; 0 = no check) is not sent: the robot turns toward
+      the path ahead instead, or, if that is not off by more than the threshold (or blocked),
+      gets no valid command. A local planner with ``min_vel_x`` < 0 may reverse only where the
+      laser has looked.
     """
 
     INPUT_PORTS = {
@@ -57,8 +65,11 @@ class FollowPath(Leaf):
                                               SHIM.rotate_to_heading_angular_vel, low=0.0),
         "max_angular_accel": Port(float, False, "rad/s^2 of the turn", SHIM.max_angular_accel,
                                   low=0.0),
-        "simulate_ahead_time": Port(float, False, "s of the turn footprint-checked",
+        "simulate_ahead_time": Port(float, False, "s of a turn or a reverse checked ahead",
                                     SHIM.simulate_ahead_time, low=0.0),
+        "observed_within": Port(float, False, "s: reverse only into space the sensors saw free "
+                                              "this recently (observed_space); 0 = no check",
+                                OBSERVED_WITHIN, low=0.0),
     }
     OUTPUT_PORTS = {
         "cmd_vel": PortInformation(Twist, True, "velocity command for this tick"),
@@ -76,6 +87,7 @@ class FollowPath(Leaf):
         self.robot = self.component(kwargs, "robot")
         self.controllers = self.component(kwargs, "controllers")
         self.local_costmap = kwargs.get("local_costmap")
+        self.observed = kwargs.get("observed_space")
         self.control_period = float(kwargs.get("control_period") or 0.05)
         self._progress = ProgressChecker()
         self._shim = RotationShim()
@@ -128,17 +140,11 @@ class FollowPath(Leaf):
             return SUCCESS
         code = CONTROL_CODES.get(result.status)
         if code is ControllerError.NO_VALID_CONTROL:
-            tolerance = self.get_input("failure_tolerance")
-            if tolerance >= 0.0 and now - self._last_valid >= tolerance:
-                code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
-                        else ControllerError.NO_VALID_CONTROL)
-                return self.fail(code, f"no valid command for {now - self._last_valid:.1f} s "
-                                       f"({result.status})")
-            self.write("cmd_vel", Twist.zero())
-            self.say(f"no valid command ({result.status}), trying again")
-            return RUNNING
+            return self._no_valid(now, str(result.status))
         if code is not None:
             return self.fail(code, f"controller: {result.status}")
+        if result.cmd.vx < 0.0 and self._reverses_blind(pose, result.cmd, now):
+            return self._turn_instead(pose, now)
         self._last_valid = now
         if self._feedback_wired:
             self.write("tracking_feedback", tracking_feedback(path, pose,
@@ -151,14 +157,49 @@ class FollowPath(Leaf):
         self.say("{}: vx {:.2f} wz {:.2f}", result.status, result.cmd.vx, result.cmd.wz)
         return RUNNING
 
+    def _no_valid(self, now: float, why: str) -> Status:
+        """No valid command this tick: zero and RUNNING within ``failure_tolerance``, then
+        FAILURE (PATIENCE_EXCEEDED, or NO_VALID_CONTROL without a tolerance)."""
+        tolerance = self.get_input("failure_tolerance")
+        if tolerance >= 0.0 and now - self._last_valid >= tolerance:
+            code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
+                    else ControllerError.NO_VALID_CONTROL)
+            return self.fail(code, f"no valid command for {now - self._last_valid:.1f} s ({why})")
+        self.write("cmd_vel", Twist.zero())
+        self.say(f"no valid command ({why}), trying again")
+        return RUNNING
+
+    def _shim_params(self) -> ShimParams:
+        return ShimParams(*(self.get_input(k) for k in (
+            "angular_dist_threshold", "forward_sampling_distance",
+            "rotate_to_heading_angular_vel", "max_angular_accel", "simulate_ahead_time")))
+
+    def _reverses_blind(self, pose: Pose2D, cmd: Twist, now: float) -> bool:
+        within = self.get_input("observed_within")
+        if self.observed is None or within <= 0.0:
+            return False
+        poses = swept_poses(pose, cmd.vx, cmd.wz, self.get_input("simulate_ahead_time"))
+        return self.observed.first_unobserved(poses, pose, now - within) is not None
+
+    def _turn_instead(self, pose: Pose2D, now: float) -> Status:
+        """The controller would reverse blind: turn toward the path ahead instead."""
+        cmd, hit = turn_toward_path(pose, self._plan_poses, self.robot.velocity().wz,
+                                    self.control_period, self._shim_params(),
+                                    self.local_costmap)
+        if cmd is None:
+            why = "turn blocked" if hit is not None else "path ahead"
+            return self._no_valid(now, f"reverse into unobserved space; {why}")
+        self._last_valid = now
+        self.write("cmd_vel", cmd)
+        self.say("not reversing blind: turning to the path, wz {:.2f}", cmd.wz)
+        return RUNNING
+
     def _rotate_to_heading(self, pose: Pose2D, now: float) -> Status | None:
         """The shim's tick: RUNNING (turning, or blocked within ``failure_tolerance``), FAILURE
         (blocked for longer), None when the controller drives."""
-        p = ShimParams(*(self.get_input(k) for k in (
-            "angular_dist_threshold", "forward_sampling_distance",
-            "rotate_to_heading_angular_vel", "max_angular_accel", "simulate_ahead_time")))
         cmd, hit = self._shim.command(pose, self._plan_poses, self.robot.velocity().wz,
-                                      self.control_period, p, self.local_costmap)
+                                      self.control_period, self._shim_params(),
+                                      self.local_costmap)
         if cmd is not None:
             self._last_valid = now
             self.write("cmd_vel", cmd)
@@ -166,15 +207,7 @@ class FollowPath(Leaf):
             return RUNNING
         if hit is None:
             return None
-        tolerance = self.get_input("failure_tolerance")
-        if tolerance >= 0.0 and now - self._last_valid >= tolerance:
-            code = (ControllerError.PATIENCE_EXCEEDED if tolerance > 0.0
-                    else ControllerError.NO_VALID_CONTROL)
-            return self.fail(code, f"turn to the path's heading blocked for "
-                                   f"{now - self._last_valid:.1f} s")
-        self.write("cmd_vel", Twist.zero())
-        self.say("turn to the path's heading blocked, trying again")
-        return RUNNING
+        return self._no_valid(now, "turn to the path's heading blocked")
 
     def _stalled(self, pose: Pose2D, now: float) -> bool:
         allowance = self.get_input("movement_time_allowance")

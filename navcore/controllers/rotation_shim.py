@@ -81,18 +81,30 @@ class RotationShim:
         ``collision`` (navcore.motion.collision) within ``simulate_ahead_time`` s of turning."""
         if not self.armed or len(poses) == 0:
             return None, None
-        error = heading_error(pose, poses, p.forward_sampling_distance)
-        if error is None or abs(error) <= p.angular_dist_threshold:
+        cmd, hit = turn_toward_path(pose, poses, current_w, period, p, collision)
+        if cmd is None and hit is None:
             self.armed = False
-            return None, None
-        w = turn_command(error, current_w, period, p)
-        if collision is not None:
-            ahead = min(abs(error), p.rotate_to_heading_angular_vel * p.simulate_ahead_time)
-            n = max(1, int(math.ceil(ahead / 0.05)))
-            sign = 1.0 if error > 0.0 else -1.0
-            hit = first_collision(collision, [Pose2D(pose.x, pose.y,
-                                                     pose.theta + sign * ahead * k / n)
-                                              for k in range(1, n + 1)], pose)
-            if hit is not None:
-                return None, hit
-        return Twist(0.0, 0.0, w), None
+        return cmd, hit
+
+
+def turn_toward_path(pose: Pose2D, poses: np.ndarray, current_w: float, period: float,
+                     p: ShimParams, collision: Any = None
+                     ) -> tuple[Twist | None, tuple[Pose2D, int] | None]:
+    """One tick of the turn toward the path: (the command, None) while the path ahead is more
+    than ``angular_dist_threshold`` off the heading; (None, None) when it is not (or the path
+    ends nearer than the sampling distance); (None, the blocking pose and cost) when the turn's
+    footprint collides on ``collision`` within ``simulate_ahead_time`` s."""
+    error = heading_error(pose, poses, p.forward_sampling_distance)
+    if error is None or abs(error) <= p.angular_dist_threshold:
+        return None, None
+    w = turn_command(error, current_w, period, p)
+    if collision is not None:
+        ahead = min(abs(error), p.rotate_to_heading_angular_vel * p.simulate_ahead_time)
+        n = max(1, int(math.ceil(ahead / 0.05)))
+        sign = 1.0 if error > 0.0 else -1.0
+        hit = first_collision(collision, [Pose2D(pose.x, pose.y,
+                                                 pose.theta + sign * ahead * k / n)
+                                          for k in range(1, n + 1)], pose)
+        if hit is not None:
+            return None, hit
+    return Twist(0.0, 0.0, w), None

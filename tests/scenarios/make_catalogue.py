@@ -831,3 +831,26 @@ write("park_and_leave_bay",
         goals_reached: 2
         recoveries: {at_most: 3}
       """)
+
+# blind reverse (issue 17, class 5): a local planner allowed to reverse, a box in the blind sector
+g = G(60, 40)
+write("reversing_planner_box_behind",
+      "The goal is 3 m behind the robot and its local planner may drive backwards (DWAPlannerROS "
+      "min_vel_x -0.3, as some robots are configured). A box the map does not know stands on the "
+      "straight way back, in the 240-degree laser's blind sector: following the path backwards "
+      "drives into it unseen. The robot must turn round first, as move_base's planner with "
+      "min_vel_x 0 does (then it sees the box and goes round): no reversing for more than 1 s "
+      "at a time, no contact.", g, """
+      start: [4.5, 2.0, 0.0]
+      goals: [[1.2, 2.0, 3.1416]]
+      objects:
+        - {box: [2.6, 1.6, 2.9, 2.4], name: box}
+      params:
+        DWAPlannerROS: {min_vel_x: -0.3}
+      time_limit: 40
+      expect:
+        outcome: succeeded
+        no_collision: true
+        reverse: {max_duration: 1.0}
+        max_time: 30
+      """)
