@@ -326,18 +326,33 @@ def test_drive_on_heading_backwards_checks_and_forwards_sees_its_way():
     assert w.world.robot.pose().x == pytest.approx(3.3, abs=0.01)
 
 
-def test_spin_of_a_rectangle_needs_its_corners_swept_space_seen_a_round_robot_does_not():
+def test_spin_sweeps_unseen_space_but_never_space_last_seen_occupied():
     occ = np.zeros((120, 120), np.uint8)
     w = GridWorld(occ, Pose2D(3.0, 3.0, 0.0))
-    status, _ = w.run(w.node("Spin", spin_dist=1.57, error_code_id="{code}"))
+    # strict: the corners of a rectangle sweep the unseen space beside its rear
+    status, _ = w.run(w.node("Spin", spin_dist=1.57, allow_unknown=False,
+                             error_code_id="{code}"))
     reader = Client(name="r", namespace=w.ns)
     reader.register_key("code", access=Access.READ)
     assert status == F and reader.get("code") == SpinError.UNOBSERVED_SPACE
-    w.turn_to(math.pi)
-    w.turn_to(0.0)
+    # by default a turn may sweep never-seen space (turning is how it looks behind)
     assert w.run(w.node("Spin", spin_dist=1.57))[0] == S
+    # and a round robot sweeps nothing new even strictly
     r = GridWorld(occ, Pose2D(3.0, 3.0, 0.0), footprint=ROUND)
-    assert r.run(r.node("Spin", spin_dist=1.57))[0] == S
+    assert r.run(r.node("Spin", spin_dist=1.57, allow_unknown=False))[0] == S
+    # a post beside the rear corner, seen (occupied) when the robot faced the other way, then
+    # erased from the costmap by a clear: the turn that would sweep into it is refused
+    post = np.zeros((120, 120), np.uint8)
+    post[65:68, 53:56] = 1          # x 2.65..2.8, y 3.25..3.4: 3 cm beside the rear-left corner
+    p = GridWorld(post, Pose2D(3.0, 3.0, 0.0))
+    p.turn_to(math.pi)
+    p.wait(30.0)
+    p.turn_to(0.0)
+    status, _ = p.run(p.node("Spin", spin_dist=-1.57, error_code_id="{code}"))
+    reader = Client(name="r2", namespace=p.ns)
+    reader.register_key("code", access=Access.READ)
+    assert status == F and reader.get("code") == SpinError.UNOBSERVED_SPACE
+    assert abs(p.world.robot.pose().theta) < 0.5
 
 
 def test_back_off_follows_the_trail_it_drove_but_not_a_trail_gone_stale():

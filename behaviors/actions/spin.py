@@ -20,8 +20,9 @@ class Spin(RecoveryAction):
     ``time_allowance`` runs out (TIMEOUT) or the footprint would touch a lethal cell (or enter
     inscribed cost) within the next ``simulate_ahead_time`` seconds of turning
     (COLLISION_AHEAD), or when the footprint would sweep (outside where it stands: the corners of a
-    non-round robot) into space not observed free within ``observed_within`` s
-    (UNOBSERVED_SPACE). A new run counts from zero.
+    non-round robot) into space last seen occupied (UNOBSERVED_SPACE; with ``allow_unknown:
+    false`` also into space not observed free within ``observed_within`` s). A new run counts
+    from zero.
     """
 
     INPUT_PORTS = {
@@ -35,6 +36,11 @@ class Spin(RecoveryAction):
         "sim_granularity": Port(float, False, "collision check step, rad", 0.017, low=0.001),
         "disable_collision_checks": PortInformation(bool, False, "skip footprint checks", False),
         **OBSERVED_IN,
+        # a turn sweeps only a band around the body (a rectangle's corners), and turning is how
+        # a robot looks behind itself: never-seen space will do, space last seen occupied not
+        "allow_unknown": PortInformation(bool, False, "also sweep space never seen (or seen "
+                                                      "free long ago), never space last seen "
+                                                      "occupied", True),
     }
     OUTPUT_PORTS = {**CMD_VEL_OUT, **ERROR_CODE_OUT}
     DEFAULT_KEYS = {"cmd_vel": "cmd_vel", "error_code_id": "spin_error_code"}

@@ -7,14 +7,15 @@ other question, "was this cell *seen* free within the last T seconds?". Each las
 the time on every cell it crosses (free) and on the cell it ends in (occupied); every cycle the
 cells under the robot's padded footprint are stamped free and forget any occupied stamp, as the
 costmaps' footprint clearing frees them (the body is there; range noise near it is not an
-obstacle). A cell is observed
-free when its newest stamp is a free one no older than T (a beam that ended in it in the same scan
-wins: occupied). Cells no beam reached (behind a 240-degree laser, say) stay unknown.
+obstacle). A cell is observed free when its newest stamp is a free one no older than T (a beam
+that ended in it in the same scan wins: occupied). Cells no beam reached (behind a 240-degree
+laser, say) stay unknown.
 
 The grid is a rolling window around the robot on the world lattice, so it keeps what it saw
 while the robot moves inside it. The ray walk is costmap_2d's (``raytrace_line``, the obstacle
-layer's clearing walk), clipped to the window with ``navcore.raycast``'s slab clip; which cells a
-footprint meets is ``navcore.costmap.footprint``'s exact square-polygon test.
+layer's clearing walk), clipped to the window with ``navcore.raycast``'s slab clip; the body is
+freed with costmap_2d's convex fill (``Costmap2D.set_convex_polygon_cost``'s kernel); how much of
+a cell a motion's footprint covers outside where the robot stands is exact polygon clipping.
 """
 
 from __future__ import annotations
