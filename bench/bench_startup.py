@@ -4,10 +4,16 @@ the demo needs compiles) and then again on that cache (every kernel loads). Both
 subprocesses of this script, in the same minute, from the checkout this file lives in.
 
     python bench/bench_startup.py [--json] [--warm-runs N]
+    python bench/bench_startup.py --kernels [--json]
 
 ``demo_cold_s`` / ``demo_warm_s``: wall seconds (the warm figure is the median of N runs);
-``*_cpu_s``: user + system seconds of the child, which another job on a shared machine does not
-inflate; ``cold_over_warm``: the wall ratio.
+``*_cpu_s``: user + system seconds of the child and of the processes it waited for (the cold demo
+compiles in two, see ``executive/commands/warmup_cmd.py``), which another job on a shared
+machine does not inflate; ``cold_over_warm``: the wall ratio.
+
+``--kernels``: instead, one cold demo in one process (no second compiling process) with a
+listener on numba's ``numba:compile`` events: the CPU seconds each kernel the demo calls from
+Python takes to compile, the kernels it calls included (``compile_<module.kernel>_cpu_s``).
 """
 
 from __future__ import annotations
@@ -43,11 +49,59 @@ def run_demo(cache_dir: str, out_dir: str) -> tuple[float, float]:
     return wall, cpu
 
 
+_KERNELS = r"""
+import json, os, sys, time
+from numba.core import event
+import executive.commands.warmup_cmd as warmup
+warmup.start_navigation_warmup = lambda: None  # one process: every kernel compiles here
+stack, top = [], {}
+
+class Compiles(event.Listener):
+    def on_start(self, ev):
+        stack.append(time.process_time())
+    def on_end(self, ev):
+        dt = time.process_time() - stack.pop()
+        if not stack:  # called from Python: its callees are in dt
+            f = ev.data["dispatcher"].py_func
+            name = f"{f.__module__}.{f.__qualname__}".replace(".<locals>", "")
+            top[name] = top.get(name, 0.0) + dt
+
+event.register("numba:compile", Compiles())
+from executive.cli import main
+rc = main(["demo", "--out", sys.argv[1]])
+print(json.dumps({"rc": rc, "top": top}))
+"""
+
+
+def compile_profile(tmp: str) -> dict[str, float]:
+    """Compile CPU seconds per kernel called from Python in one cold demo (see module doc)."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=os.path.join(tmp, "numba-cache"))
+    env.pop("NUMBA_DISABLE_JIT", None)
+    proc = subprocess.run([sys.executable, "-c", _KERNELS, os.path.join(tmp, "out")], cwd=ROOT,
+                          env=env, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise SystemExit(f"bench_startup: profiled demo failed:\n{proc.stderr[-2000:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])["top"]
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="print a JSON object as the last line")
     ap.add_argument("--warm-runs", type=int, default=3)
+    ap.add_argument("--kernels", action="store_true",
+                    help="per-kernel compile CPU of one cold demo in one process instead")
     args = ap.parse_args(argv)
+    if args.kernels:
+        with tempfile.TemporaryDirectory(prefix="navbt-startup-") as tmp:
+            top = compile_profile(tmp)
+        for name, cpu in sorted(top.items(), key=lambda kv: -kv[1]):
+            print(f"{cpu:6.2f} s CPU  {name}")
+        print(f"{sum(top.values()):6.2f} s CPU  all ({len(top)} kernels called from Python)")
+        if args.json:
+            figures = {f"compile_{n}_cpu_s": round(c, 2) for n, c in top.items()}
+            figures["compile_all_cpu_s"] = round(sum(top.values()), 2)
+            print(json.dumps(figures))
+        return 0
     with tempfile.TemporaryDirectory(prefix="navbt-startup-") as tmp:
         cache = os.path.join(tmp, "numba-cache")
         cold_wall, cold_cpu = run_demo(cache, os.path.join(tmp, "cold"))

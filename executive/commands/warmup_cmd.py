@@ -81,9 +81,9 @@ def warm_navigation(scenario_path: str) -> None:
 
 def start_navigation_warmup() -> subprocess.Popen | None:
     """``mission warmup --part navigation`` in a second process (its output discarded), or None
-    when NUMBA_DISABLE_JIT is set. The caller waits for it."""
+    when NUMBA_DISABLE_JIT is set or there is one CPU. The caller waits for it."""
     import os
-    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0") or (os.cpu_count() or 1) < 2:
         return None
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     env = dict(os.environ)  # same numba cache, same checkout
