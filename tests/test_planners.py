@@ -662,7 +662,7 @@ def test_fast_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkin
 
 def test_wavefront_kernel_without_avx512_matches_the_plain_reference(tmp_path) -> None:
     """Compiled for a Haswell (no AVX-512; a fresh numba cache) the planners run the prefetching
-    kernel with the plain pushes (no compressing store): check that build against the
+    kernel with the integer-select pushes (no vector push): check that build against the
     reference too."""
     import os
     import subprocess

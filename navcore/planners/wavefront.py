@@ -167,6 +167,38 @@ def _push_over(rec: np.ndarray, queue: np.ndarray, count: np.uintp, p: np.float3
     return count + np.uintp(ok)
 
 
+# The same two rules with the gate's new value chosen by integer masks on its bits (``bits``, an
+# int32 view of the records), for the fast variant on CPUs without AVX-512: compiled for those,
+# LLVM turns the float selects above into branches, which at the wave front mispredict half the
+# time (with AVX-512 they are masked moves, and the masks cost more than they save).
+_INF_BITS = np.int32(0x7F800000)
+_SIGN_BIT = np.int32(-0x80000000)
+
+
+@njit(cache=True, inline="always")
+def _push_next_bits(rec: np.ndarray, bits: np.ndarray, queue: np.ndarray, count: np.uintp,
+                    p: np.float32, pm: np.float32, m: np.uintp) -> np.uintp:
+    """``_push_next`` with an integer select."""
+    k = np.uintp(2) * m + np.uintp(GATE)
+    ok = pm > p + abs(rec[k])
+    b = bits[k]
+    bits[k] = b ^ ((b ^ _INF_BITS) & (np.int32(0) - np.int32(ok)))  # +inf if pushed
+    queue[count] = m
+    return count + np.uintp(ok)
+
+
+@njit(cache=True, inline="always")
+def _push_over_bits(rec: np.ndarray, bits: np.ndarray, queue: np.ndarray, count: np.uintp,
+                    p: np.float32, pm: np.float32, m: np.uintp) -> np.uintp:
+    """``_push_over`` with an integer select."""
+    k = np.uintp(2) * m + np.uintp(GATE)
+    g = rec[k]
+    ok = (pm > p + g) & (g > np.float32(0.0))
+    bits[k] = bits[k] ^ (_SIGN_BIT & (np.int32(0) - np.int32(ok)))  # negated if pushed
+    queue[count] = m
+    return count + np.uintp(ok)
+
+
 # How many queue places ahead the fast kernel prefetches a cell's lines
 PREFETCH_AHEAD = 8
 
@@ -183,7 +215,7 @@ def _target_has_avx512vl() -> bool:
 
 # The kernel variant the planners run, (prefetch, compress): the plain kernel (False, False)
 # under NUMBA_DISABLE_JIT or with NAVBT_PLAIN_KERNELS=1, else the prefetch hints and, on
-# AVX-512 targets, the compressing push (docs/performance.md: each buys 10-20 % at 2000^2).
+# AVX-512 targets, the vector push, elsewhere the integer-select pushes (docs/performance.md).
 PLAIN_VARIANT = (False, False)
 KERNEL_VARIANT = PLAIN_VARIANT if (os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
                                    or os.environ.get("NAVBT_PLAIN_KERNELS") == "1") \
@@ -207,6 +239,8 @@ def _make_propagate(update: int, astar: bool, prefetch: bool, compress: bool):
     its instructions on flag tests and on spilled registers)."""
     quadratic = update != UPDATE_PLAIN
     monotone = update == UPDATE_MONOTONE
+    # the fast variant without the vector push (a CPU without AVX-512): integer-select pushes
+    int_select = prefetch and not compress
 
     @njit(cache=True)
     def propagate(costs: np.ndarray, lut_push: np.ndarray, lut_hf: np.ndarray,
@@ -216,6 +250,8 @@ def _make_propagate(update: int, astar: bool, prefetch: bool, compress: bool):
                   target: int, threshold: float, increment: float, max_cycles: int, hkind: int,
                   hscale: float, stop_margin: float) -> tuple:
         ns = nx * ny
+        if int_select:
+            bits = rec.view(np.int32)  # the records' bits, for the integer selects
         # the three per-cost tables as one record per cost: one base register, one line
         cost_rec = np.empty(4 * lut_push.shape[0], np.float32)
         for c in range(lut_push.shape[0]):
@@ -326,6 +362,17 @@ def _make_propagate(update: int, astar: bool, prefetch: bool, compress: bool):
                     else:
                         nover = push4_over(rec, over, nover, p, l, r, u, d, n - one, n + one,
                                            n - unx, n + unx)
+                elif int_select:  # (the same pushes, see _push_next_bits)
+                    if below:
+                        nnext = _push_next_bits(rec, bits, nxt, nnext, p, l, n - one)
+                        nnext = _push_next_bits(rec, bits, nxt, nnext, p, r, n + one)
+                        nnext = _push_next_bits(rec, bits, nxt, nnext, p, u, n - unx)
+                        nnext = _push_next_bits(rec, bits, nxt, nnext, p, d, n + unx)
+                    else:
+                        nover = _push_over_bits(rec, bits, over, nover, p, l, n - one)
+                        nover = _push_over_bits(rec, bits, over, nover, p, r, n + one)
+                        nover = _push_over_bits(rec, bits, over, nover, p, u, n - unx)
+                        nover = _push_over_bits(rec, bits, over, nover, p, d, n + unx)
                 elif below:
                     nnext = _push_next(rec, nxt, nnext, p, l, n - one)
                     nnext = _push_next(rec, nxt, nnext, p, r, n + one)
