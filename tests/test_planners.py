@@ -655,8 +655,8 @@ def test_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: in
 @pytest.mark.parametrize("quadratic,hkind", [(True, 0), (False, 0), (False, 1), (True, 2)])
 def test_fast_wavefront_kernel_matches_the_plain_reference(quadratic: bool, hkind: int) -> None:
     """The fast variant (prefetch hints and the four pushes as one vector step with a
-    compressing store, LLVM IR in navcore/prefetch.py and navcore/planners/push4.py) gives the
-    same updates and potentials on every host: LLVM expands the store where the CPU lacks it."""
+    compress, LLVM IR in navcore/prefetch.py and navcore/planners/push4.py) gives the
+    same updates and potentials on every host: LLVM expands the compress where the CPU lacks it."""
     kernel_agrees_with_reference(quadratic, hkind, variant=(True, True))
 
 

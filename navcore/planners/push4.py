@@ -1,10 +1,12 @@
-"""The wavefront's four pushes as one vector step with a compressing store (LLVM IR).
+"""The wavefront's four pushes as one vector step with a compress (LLVM IR).
 
 The fast kernel variant on AVX-512 targets (``wavefront.KERNEL_VARIANT``): the four neighbours'
 push tests as one 4-lane compare, their gates written back, and the pushed cells appended in
-neighbour order (left, right, up, down) with one ``llvm.masked.compressstore``. Same pushes in
-the same order as the plain ``_push_next`` / ``_push_over`` beside the kernel, so the same
-potentials; tests run both on every host (where the CPU lacks the store, LLVM expands it).
+neighbour order (left, right, up, down): packed to the front of a register
+(``llvm.experimental.vector.compress``, one ``vpcompressd`` on AVX-512) and stored as a whole.
+Same pushes in the same order as the plain ``_push_next`` / ``_push_over`` beside the kernel,
+so the same potentials; tests run both on every host (where the CPU lacks the instruction, LLVM
+expands it).
 """
 
 from __future__ import annotations
@@ -48,11 +50,18 @@ def _push4_codegen(above: bool):  # type: ignore[no-untyped-def]
             g = builder.select(ok, ir.Constant(v4f, [float("inf")] * 4), g)
         for k in range(4):
             builder.store(builder.extract_element(g, i32(k)), ptrs[k])
+        # the pushed cells packed to the front of a register, then all four lanes stored at the
+        # queue's end (a buffer always has four places past its queue: border cells are never
+        # queued, and propagate keeps room in the overflow): the compressing store to memory
+        # is microcoded on AMD Zen 4 (llvm/llvm-project#133568); merge-masking into the cells
+        # themselves avoids the zero-masked form's false dependency on Zen 4 and 5
         v4b = ir.VectorType(ir.IntType(1), 4)
         fn = cgutils.get_or_insert_function(
-            builder.module, ir.FunctionType(ir.VoidType(), [v4i, i32.as_pointer(), v4b]),
-            "llvm.masked.compressstore.v4i32")
-        builder.call(fn, [idx, builder.gep(queue.data, [count]), ok])
+            builder.module, ir.FunctionType(v4i, [v4i, v4b, v4i]),
+            "llvm.experimental.vector.compress.v4i32")
+        packed = builder.call(fn, [idx, ok, idx])
+        dst = builder.bitcast(builder.gep(queue.data, [count]), v4i.as_pointer())
+        builder.store(packed, dst, align=4)
         pop = cgutils.get_or_insert_function(
             builder.module, ir.FunctionType(ir.IntType(4), [ir.IntType(4)]), "llvm.ctpop.i4")
         return builder.add(count, builder.zext(

@@ -37,10 +37,11 @@ time is the cost of one update, mostly memory. Hence the 8-byte record (one cach
 what a push test and an update need), one compiled variant per (update, search) kind (no flag
 tests in the loop), branch-free pushes (at the wave front their outcome is a coin flip), and
 buffers and gates reused from plan to plan. The planners run a fast variant of the same kernel
-(``KERNEL_VARIANT``: cache prefetch hints, and on AVX-512 the four pushes as one compressing
-vector store, both LLVM IR) that visits the cells in the same order with the same results; the
-plain kernel beside it is what NUMBA_DISABLE_JIT=1 and NAVBT_PLAIN_KERNELS=1 run. The
-measurements behind each choice, and what was tried without gain, are in docs/performance.md.
+(``KERNEL_VARIANT``: cache prefetch hints, and on AVX-512 the four pushes as one vector step
+that packs the pushed cells in a register, both LLVM IR) that visits the cells in the same
+order with the same results; the plain kernel beside it is what NUMBA_DISABLE_JIT=1 and
+NAVBT_PLAIN_KERNELS=1 run. The measurements behind each choice, and what was tried without
+gain, are in docs/performance.md.
 
 ``plan_field`` roots the field at the goal and repairs it on a replan, with a monotone form of the
 quadratic update that makes the field independent of the visiting order (see there).
@@ -204,7 +205,7 @@ PREFETCH_AHEAD = 8
 
 
 def _target_has_avx512vl() -> bool:
-    """Whether numba compiles for a CPU with AVX-512VL (the compressing store): the CPU named
+    """Whether numba compiles for a CPU with AVX-512VL (the vector compress): the CPU named
     by NUMBA_CPU_NAME / NUMBA_CPU_FEATURES, else the host's (llvmlite's public query)."""
     from numba.core import config
     if config.CPU_NAME or config.CPU_FEATURES:
