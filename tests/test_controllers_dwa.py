@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -347,7 +346,7 @@ def test_footprint_bound_skips_rasterising_without_changing_any_score(seed):
     samples = dwa.sample_window(vel, pose, ctx.local_goal)
     for exhaustive in (False, True):
         with_bound = dwa._score(pose, vel, samples, ctx, exhaustive)
-        plain = dwa._score(pose, vel, samples, dataclasses.replace(ctx, bound=np.zeros((0, 0), np.uint8)),
+        plain = dwa._score(pose, vel, samples, ctx._replace(bound=np.zeros((0, 0), np.uint8)),
                            exhaustive)
         assert with_bound[-1] == plain[-1]
         assert np.array_equal(with_bound[-3], plain[-3])   # scores, bit for bit

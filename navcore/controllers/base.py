@@ -95,11 +95,12 @@ class LocalPlannerBase:
                                  reason=f"{self.NAME}: velocity is not finite: {velocity}")
         if path is not None:
             poses = np.asarray(path.poses, dtype=np.float64).reshape(-1, 3)
-            if not np.all(np.isfinite(poses)):
-                return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
-                                     reason=f"{self.NAME}: the path has non-finite poses")
+            # a path equal to the one given last passed this check then (NaN is never equal)
             if self._given is None or poses.shape != self._given.shape \
                     or not np.array_equal(poses, self._given):
+                if not np.isfinite(poses).all():
+                    return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY,
+                                         reason=f"{self.NAME}: the path has non-finite poses")
                 self.set_plan(path)
         self._last_pose, self._last_vel = pose, velocity
         if len(self._plan) == 0:

@@ -10,8 +10,7 @@ obstacle critic keeps rejecting lethal trajectories even when ``occdist_scale`` 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -29,11 +28,12 @@ from navcore.controllers.result import ControlResult, ControlStatus, describe_re
 from navcore.controllers.rollout import (CONSTANT, RAMPED, filter_and_steps, sample_grid,
                                          simulate)
 
-@dataclass(frozen=True)
-class DwaCycle:
+class DwaCycle(NamedTuple):
     """What one cycle's scoring reads (updatePlanAndLocalCosts): the costmap window, the
     distance grids from the path, the local goal and the point ahead of it, the critics'
-    weights (``DwaWeights.array()``) and the footprint cost bound."""
+    weights (``DwaWeights.array()``) and the footprint cost bound. Immutable, like
+    ``DwaWeights``; a named tuple because one is made every cycle and a frozen dataclass
+    costs several times more to build (docs/performance.md, "Wave 2 benchmark check")."""
 
     costs: np.ndarray
     ox: float
