@@ -151,7 +151,9 @@ class SafetyGate:
                       faults: list[str]) -> None:
         if fresh:
             ranges = scan.ranges
-            same = self._ranges is not None and np.array_equal(ranges, self._ranges)
+            prev = self._ranges
+            # np.array_equal's test without its Python wrapper (this runs every cycle)
+            same = prev is not None and prev.shape == ranges.shape and bool((ranges == prev).all())
             self._repeats = self._repeats + 1 if same else 0
             self._ranges = ranges
             if not same:

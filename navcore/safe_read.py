@@ -40,6 +40,7 @@ MAX_TREE_DEPTH = 64                   # nesting of a built tree, subtrees expand
 
 # libyaml's parser and composer when present (about 10x faster); same events, marks and safety.
 _LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+_STR_TAG = "tag:yaml.org,2002:str"
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ufffe\uffff]")
 
 
@@ -231,6 +232,8 @@ for _tag, _name in (("int", "construct_yaml_int"), ("float", "construct_yaml_flo
 
 def node_value(node: yaml.Node, file: str, *, error: ErrorType = ReadError) -> Any:
     """Plain Python data of a composed node (safe types only), errors at the node's line."""
+    if node.__class__ is yaml.ScalarNode and node.tag == _STR_TAG:
+        return node.value  # what the constructor returns for a string, without making one
     try:
         return _Constructor().construct_document(node)
     except yaml.YAMLError as e:
