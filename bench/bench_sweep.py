@@ -12,7 +12,11 @@ runs), set against ``median_run_ms`` (the median wall time of one run in-process
 runs the sweep ``--rounds`` times, alternating, and its fastest round counts: on a machine shared
 with other work a round is slowed by whatever else ran, never sped up. ``dask_extra_cpu_ms_per_run``
 is the CPU time (all processes: workers, nannies, scheduler, client) the Dask round used per run
-beyond the pool's: what Dask costs with the noise of other users' load taken out.
+beyond the pool's: what Dask costs with the noise of other users' load taken out. On Linux a last pass reads each
+run thread's ``/proc/thread-self/schedstat`` around the run, on the pool and on Dask:
+``run_gil_wait_ms_*`` (wall minus time on a core minus time waiting for one: the run thread
+asleep, waiting for the GIL) and ``run_switches_*`` (times the run thread was put on a core);
+these hold up on a loaded machine where wall times do not.
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 import yaml  # noqa: E402
 
-from executive.sweeps.runner import Executor  # noqa: E402
+from executive.sweeps.runner import Executor, dask_client, run_task, warm_worker  # noqa: E402
 from executive.sweeps.spec import load_sweep  # noqa: E402
 
 _ROOM = "\n".join(["#" * 34] + ["#" + "." * 32 + "#"] * 20 + ["#" * 34])
@@ -88,6 +92,51 @@ def time_executor(tasks: list, workers: int, dask: str | None = None
     return wall, used, records
 
 
+SCHEDSTAT = "/proc/thread-self/schedstat"
+
+
+def _sched() -> tuple[float, float, int]:
+    with open(SCHEDSTAT, encoding="ascii") as f:
+        on_core_ns, waiting_ns, switches = map(int, f.read().split())
+    return on_core_ns / 1e9, waiting_ns / 1e9, switches
+
+
+def sched_run(task) -> tuple[float, int]:
+    """run_task, and how long its thread slept (GIL) and how often it was put on a core."""
+    s0, t0 = _sched(), time.perf_counter()
+    run_task(task)
+    wall, s1 = time.perf_counter() - t0, _sched()
+    return wall - (s1[0] - s0[0]) - (s1[1] - s0[1]), s1[2] - s0[2]
+
+
+def sched_figures(tasks: list) -> dict[str, float]:
+    """Mean GIL wait and switches per run, on a 2-process pool and on a 2-worker LocalCluster."""
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    out: dict[str, float] = {}
+    with ProcessPoolExecutor(2, mp_context=mp.get_context("spawn"),
+                             initializer=warm_worker) as pool:
+        list(pool.map(sched_run, tasks[:4]))
+        res = list(pool.map(sched_run, tasks))
+    out["pool"] = res
+    try:
+        client = dask_client("local", 2)
+    except RuntimeError:
+        return {}
+    try:
+        client.gather(client.map(sched_run, tasks[:4], pure=False))
+        out["dask"] = client.gather(client.map(sched_run, tasks, pure=False))
+    finally:
+        cluster = client.cluster
+        client.close()
+        cluster.close()
+    figures: dict[str, float] = {}
+    for k, res in out.items():
+        figures[f"run_gil_wait_ms_{k}"] = round(1000 * statistics.mean(r[0] for r in res), 2)
+        figures[f"run_switches_{k}"] = round(statistics.mean(r[1] for r in res), 1)
+    return figures
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true")
@@ -112,6 +161,7 @@ def main() -> None:
                 continue
             walls["dask"].append(wall)
             cpus["dask"].append(used)
+        sched = sched_figures(tasks) if os.path.exists(SCHEDSTAT) else {}
     n = len(tasks)
     wall1, wall2 = min(walls["1"]), min(walls["2"])
     median_run_ms = min(run_ms)
@@ -126,6 +176,7 @@ def main() -> None:
         if None not in cpus["2"] + cpus["dask"]:
             extra = [1000 * (c_dask - c_pool) / n for c_dask, c_pool in zip(cpus["dask"], cpus["2"])]
             figures["dask_extra_cpu_ms_per_run"] = round(statistics.median(extra), 2)
+    figures.update(sched)
     figures["load_1min"] = round(os.getloadavg()[0], 2)
     if not args.json:
         for k, v in figures.items():

@@ -184,24 +184,31 @@ def _is_warm() -> bool:
     return runner.warmed
 
 
-def test_dask_workers_that_join_later_are_warmed_too():
-    """The warm-up is a worker plugin: a worker that joins after the client registered it (a
-    cluster scaled up, a restarted worker) warms before its first run as well."""
+def test_dask_workers_that_join_later_are_warmed_too(tmp_path, catalogue):
+    """On a cluster given by its address, the warm-up is a worker plugin: a worker that joins
+    after the first run (a cluster scaled up, a restarted worker) warms as well; closing the
+    executor takes the plugin off the cluster again."""
     pytest.importorskip("dask.distributed")
-    from executive.sweeps.runner import dask_client
-    client = dask_client("local", 1)
-    try:
-        assert list(client.run(_is_warm).values()) == [True]
-        client.cluster.scale(2)
-        client.wait_for_workers(2, timeout=120)
-        deadline = time.monotonic() + 120   # the new worker's plugin setup runs in the background
-        while not all(client.run(_is_warm).values()) and time.monotonic() < deadline:
-            time.sleep(0.2)
-        assert list(client.run(_is_warm).values()) == [True, True]
-    finally:
-        cluster = client.cluster
-        client.close()
-        cluster.close()
+    from dask.distributed import LocalCluster
+
+    from executive.sweeps.runner import Executor
+    task = load_sweep(_spec(tmp_path, SMALL.replace("[3, 4]", "[3]"))).tasks()[0]
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as cluster:
+        got: list[dict] = []
+        with Executor(1, cluster.scheduler_address) as ex:
+            ex.run([task], lambda t, r, timing: got.append(r))
+            assert got[0]["outcome"] == "succeeded"
+            client = ex._client
+            assert list(client.run(_is_warm).values()) == [True]
+            cluster.scale(2)
+            client.wait_for_workers(2, timeout=120)
+            deadline = time.monotonic() + 120   # the new worker's setup runs in the background
+            while not all(client.run(_is_warm).values()) and time.monotonic() < deadline:
+                time.sleep(0.2)
+            assert list(client.run(_is_warm).values()) == [True, True]
+            assert "navbt-warm-kernels" in cluster.scheduler.worker_plugins
+        assert "navbt-warm-kernels" not in cluster.scheduler.worker_plugins
 
 
 def test_a_run_that_raises_is_an_error_record_and_the_sweep_goes_on(tmp_path, catalogue):

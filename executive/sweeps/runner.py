@@ -197,6 +197,12 @@ class Executor:
             self._pool = None
         if self._client is not None:
             cluster = getattr(self._client, "cluster", None)
+            if self.dask != "local":   # leave a shared cluster as we found it
+                from executive.sweeps.dask_plugin import WarmKernels
+                try:
+                    self._client.unregister_worker_plugin(WarmKernels.name)
+                except Exception:  # noqa: BLE001 - scheduler gone: nothing left to clean
+                    pass
             self._client.close()
             if cluster is not None and self.dask == "local":
                 cluster.close()
