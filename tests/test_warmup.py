@@ -112,3 +112,15 @@ def test_navigation_part_of_the_warmup(capsys) -> None:
     assert main(["warmup", "--part", "navigation"]) == 0
     out = capsys.readouterr().out
     assert out.startswith("kernels ") and out.rstrip().endswith(" s)")
+
+
+def test_a_failed_run_stops_the_second_process_a_good_one_lets_it_finish() -> None:
+    from executive.commands.warmup_cmd import end_navigation_warmup
+
+    slow = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    end_navigation_warmup(slow, keep=False)
+    assert slow.returncode is not None and slow.returncode != 0  # killed, not waited out
+    quick = subprocess.Popen([sys.executable, "-c", "import sys; sys.exit(3)"])
+    end_navigation_warmup(quick, keep=True)
+    assert quick.returncode == 3  # ran to its end
+    end_navigation_warmup(None, keep=True)  # no second process (warm cache): nothing to do

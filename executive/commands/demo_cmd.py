@@ -37,8 +37,8 @@ def run(args: argparse.Namespace) -> int:
     scenario = load_scenario(os.path.join(here, "data", "demo.yaml"))
     tree = args.tree or shipped_tree("smach_recovery")
     out = args.out or _fresh_dir(os.path.abspath("mission-demo"))
-    from executive.commands.warmup_cmd import (announce_compiling, kernels_cold,
-                                               start_navigation_warmup)
+    from executive.commands.warmup_cmd import (announce_compiling, end_navigation_warmup,
+                                               kernels_cold, start_navigation_warmup)
     progress = Progress()
     print(f"demo: {scenario.description.splitlines()[0] if scenario.description else scenario.name}")
     cold = kernels_cold()
@@ -47,16 +47,17 @@ def run(args: argparse.Namespace) -> int:
     # the second compiling process knows only the bundled robot's planners
     default_robot = sources == ConfigSources()
     helper = start_navigation_warmup() if cold and default_robot else None
+    ok = False
     try:
         r = run_scenario(scenario, tree, record_dir=out, config_path=sources,
                          on_tick=progress_callback(progress, scenario.time_limit,
                                                    goals=scenario.goals))
+        ok = r.outcome != "error"
     except (ScenarioError, TreeLoadError, WiringError, ConfigError) as e:
         progress.done()
         return fail("demo", str(e))
     finally:
-        if helper is not None:
-            helper.wait()
+        end_navigation_warmup(helper, keep=ok)
     progress.done()
     if r.outcome == "error":
         return fail("demo", r.detail)

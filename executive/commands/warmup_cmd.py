@@ -94,6 +94,22 @@ def start_navigation_warmup() -> subprocess.Popen | None:
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
+def end_navigation_warmup(helper: subprocess.Popen | None, keep: bool) -> None:
+    """After the run: let the second process finish when ``keep`` (its kernels serve the next
+    runs too; at most 5 minutes), else stop it at once (a failed run should not wait for it).
+    numba writes each cache file whole, so a stopped compile only leaves that kernel to a later
+    run."""
+    if helper is None:
+        return
+    if not keep:
+        helper.kill()
+    try:
+        helper.wait(timeout=300)
+    except subprocess.TimeoutExpired:
+        helper.kill()
+        helper.wait()
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.add_argument("--part", choices=("all", "navigation"), default="all",
@@ -117,11 +133,12 @@ def run(args: argparse.Namespace) -> int:
         warm_navigation(demo)
     else:
         helper = start_navigation_warmup() if cold else None
+        ok = False
         try:
             r = run_scenario(load_scenario(demo), shipped_tree("smach_recovery"))
+            ok = r.outcome != "error"
         finally:
-            if helper is not None:
-                helper.wait()
+            end_navigation_warmup(helper, keep=ok)
         if r.outcome == "error":
             return fail("warmup", r.detail)
     if not args.quiet:
