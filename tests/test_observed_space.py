@@ -142,7 +142,7 @@ def test_first_unobserved_matches_the_sampled_reference():
         space.free[cj, ci] = NEVER
         got = first_unobserved(space.free, space.occupied, 0.0, 0.0, RES, fp, True,
                                np.array([[pose.x, pose.y, pose.theta]]),
-                               np.array([start.x, start.y, start.theta]), 1.0, 0.0)
+                               np.array([start.x, start.y, start.theta]), 1.0, 0.0, False, 0.0)
         want = ref_needed(placed(fp, pose.x, pose.y, pose.theta),
                           placed(fp, start.x, start.y, start.theta), ci, cj)
         assert (got[0] == 0) == want, (start, pose, ci, cj)
@@ -161,6 +161,25 @@ def test_a_pose_that_stays_where_the_robot_stands_needs_nothing_observed():
     turned = [Pose2D(1.0, 1.0, 0.3 + k * 0.2) for k in range(1, 10)]
     assert round_space.first_unobserved(turned, p, 0.0) is None
     assert space.first_unobserved(turned, p, 0.0) is not None
+
+
+def test_a_footprint_grazing_a_cell_by_a_millimetre_does_not_cover_it():
+    space = ObservedSpace(RES, 40, 40, RECT)
+    space.free[:] = 5.0
+    start = Pose2D(1.0, 1.0, 0.0)               # front edge at x 1.25, a cell face
+    space.occupied[20, 25] = 6.0                # the cell x 1.25..1.30 ahead, seen occupied
+    one_mm = [Pose2D(1.001, 1.0, 0.0)]
+    three_mm = [Pose2D(1.003, 1.0, 0.0)]
+    fp = space.footprint
+    arr = lambda ps: np.array([[p.x, p.y, p.theta] for p in ps])  # noqa: E731
+    s = np.array([start.x, start.y, start.theta])
+    # the default depth tolerance (2 mm, navcore.motion.collision's slack) lets 1 mm through
+    assert first_unobserved(space.free, space.occupied, 0.0, 0.0, RES, fp, True, arr(one_mm), s,
+                            1.0, 0.0, True)[0] == -1
+    assert first_unobserved(space.free, space.occupied, 0.0, 0.0, RES, fp, True, arr(three_mm),
+                            s, 1.0, 0.0, True)[0] == 0
+    assert first_unobserved(space.free, space.occupied, 0.0, 0.0, RES, fp, True, arr(one_mm), s,
+                            1.0, 0.0, True, 0.0)[0] == 0
 
 
 def test_the_window_rolls_with_the_robot_and_keeps_what_it_saw():

@@ -132,14 +132,15 @@ def _place_all(footprint: np.ndarray, x: float, y: float, theta: float, origin_x
 
 
 @njit(cache=True, nogil=True)
-def _clip_square(poly: np.ndarray, i: int, j: int, a: np.ndarray, b: np.ndarray) -> int:
-    """Clip the cell square [i, i+1] x [j, j+1] to the convex counter-clockwise polygon ``poly``
-    (Sutherland-Hodgman); the vertices land in ``a`` (scratch ``b``, both (4 + N + 1, 2)).
-    Returns their count (0: no overlap)."""
-    a[0, 0], a[0, 1] = i, j
-    a[1, 0], a[1, 1] = i + 1.0, j
-    a[2, 0], a[2, 1] = i + 1.0, j + 1.0
-    a[3, 0], a[3, 1] = i, j + 1.0
+def _clip_square(poly: np.ndarray, i: int, j: int, inset: float, a: np.ndarray,
+                 b: np.ndarray) -> int:
+    """Clip the cell square [i, i+1] x [j, j+1], shrunk by ``inset`` on every side, to the
+    convex counter-clockwise polygon ``poly`` (Sutherland-Hodgman); the vertices land in ``a``
+    (scratch ``b``, both (4 + N + 1, 2)). Returns their count (0: no overlap)."""
+    a[0, 0], a[0, 1] = i + inset, j + inset
+    a[1, 0], a[1, 1] = i + 1.0 - inset, j + inset
+    a[2, 0], a[2, 1] = i + 1.0 - inset, j + 1.0 - inset
+    a[3, 0], a[3, 1] = i + inset, j + 1.0 - inset
     m = 4
     n = poly.shape[0]
     for e in range(n):
@@ -198,17 +199,22 @@ SLIVER = 1e-6
 # m: a footprint this little outside the start footprint stays on it (the flats of a polygon
 # approximating a round robot turning on the spot reach ~4 mm out; shared edges round)
 START_TOLERANCE = 0.01
+# m: a footprint reaching no deeper than this into a cell does not cover it (the numerical
+# slack navcore.motion.collision allows a tight-spot motion against a lethal cell)
+DEPTH_TOLERANCE = 0.002
 
 
 @njit(cache=True, nogil=True)
 def first_unobserved(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y: float,
                      resolution: float, footprint: np.ndarray, convex: bool, poses: np.ndarray,
                      start: np.ndarray, since: float, tolerance: float = START_TOLERANCE,
-                     allow_unknown: bool = False) -> tuple[int, int, int]:
+                     allow_unknown: bool = False, depth: float = DEPTH_TOLERANCE
+                     ) -> tuple[int, int, int]:
     """The first of ``poses`` (N, 3) whose footprint reaches into a cell not observed free since
     ``since`` (free stamp >= since and newer than its occupied stamp), with that cell (i, j),
     counting only the part of the footprint more than ``tolerance`` m outside the footprint at
-    ``start`` (3,): the robot stands there. Cells off the grid are unobserved. (-1, 0, 0) when
+    ``start`` (3,): the robot stands there, and only cells it reaches more than ``depth`` m
+    into. Cells off the grid are unobserved. (-1, 0, 0) when
     every pose keeps to observed-free space. With ``allow_unknown`` only a cell whose newest
     observation is occupied (at any age) counts: never seen, or seen free long ago, will do (a
     last resort when nothing around was seen).
@@ -222,6 +228,7 @@ def first_unobserved(free: np.ndarray, occupied: np.ndarray, origin_x: float, or
     ss = math.sin(start[2])
     home = _place_all(footprint, start[0], start[1], start[2], origin_x, origin_y, inv)
     tol = tolerance * inv
+    inset = depth * inv
     a = np.empty((footprint.shape[0] + 5, 2))
     b = np.empty((footprint.shape[0] + 5, 2))
     for p in range(poses.shape[0]):
@@ -234,7 +241,7 @@ def first_unobserved(free: np.ndarray, occupied: np.ndarray, origin_x: float, or
         for j in range(j0, j1 + 1):
             for i in range(i0, i1 + 1):
                 if convex:
-                    m = _clip_square(placed, i, j, a, b)
+                    m = _clip_square(placed, i, j, inset, a, b)
                     if m < 3 or _area(a, m) <= SLIVER or _within(home, a, m, tol):
                         continue
                 else:
@@ -374,7 +381,7 @@ class ObservedSpace:
         k, i, j = first_unobserved(self.free, self.occupied, self.origin_x, self.origin_y,
                                    self.resolution, self.footprint, self.convex, arr,
                                    np.array([start.x, start.y, start.theta]), float(since),
-                                   START_TOLERANCE, bool(allow_unknown))
+                                   START_TOLERANCE, bool(allow_unknown), DEPTH_TOLERANCE)
         if k < 0:
             return None
         return int(k), (self.origin_x + (i + 0.5) * self.resolution,
