@@ -98,15 +98,16 @@ def test_smach_everything_fails():
     tree, runs = start("smach_recovery", w)
     status, _ = run_tree(tree, w)
     assert status == F
-    # 11 navigation attempts (2 planner calls each); 10 recoveries, the escalation twice round:
-    # clear-local, spin, temporary goal, back off, clear-all+wait (the goal-weighted follow has
-    # no path to follow and hands over to spin in the same tick). In this open world the
+    # 11 navigation attempts (2 planner calls each); 10 recoveries: clear-local, spin, temporary
+    # goal, back off, the temporary goal through unseen space (EscapeThroughUnseen),
+    # clear-all+wait, then clear-local, spin, temporary goal, back off (the goal-weighted follow
+    # has no path to follow and hands over to spin in the same tick). In this open world the
     # temporary goal is one clear arc away (no planner call) and the back-off retraces that arc.
     assert runs.done["SetParameters"] == runs.done["FollowPath"] == 2   # only in the recovery
-    assert runs.done["TemporaryGoal"] == runs.done["BackOffToPreviousPose"] == 2
+    assert runs.done["TemporaryGoal"] == 3 and runs.done["BackOffToPreviousPose"] == 2
     assert w.planner.calls == 11 * 2
-    assert runs.done["Spin"] == 2 and runs.done["Wait"] == 2
-    assert w.global_costmap.resets == 11 + 2          # context clears + clear-all
+    assert runs.done["Spin"] == 2 and runs.done["Wait"] == 1
+    assert w.global_costmap.resets == 11 + 1          # context clears + clear-all
     assert len(w.local_costmap.clear_outside_calls) == 2
 
 
