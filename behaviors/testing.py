@@ -10,6 +10,7 @@ components from these and adds only a robot I/O.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
@@ -227,6 +228,61 @@ class World:
         self.clock.advance(self.control_period)
 
 
+class NodeRig:
+    """One node (or a small subtree) under test in a blackboard namespace of its own, set up with
+    ``components`` (a dict, or a ``World`` whose ``components()`` are read when a node is made):
+    ``node`` makes and sets it up, ``put`` / ``get`` reach its blackboard, ``tick`` ticks it
+    once. ``run`` ticks it until it finishes, the robot of a ``World`` following ``cmd_vel``."""
+
+    _ids = itertools.count()
+
+    def __init__(self, components: dict[str, Any] | World | None = None) -> None:
+        from py_trees.blackboard import Client
+        self.world = components if isinstance(components, World) else None
+        self.components = {} if components is None or self.world else dict(components)
+        self.ns = f"/rig{next(self._ids)}"
+        self.bb = Client(name="rig", namespace=self.ns)
+
+    def node(self, node_type: str, **ports: Any) -> Any:
+        from behaviors.base import make
+        node = make(node_type, namespace=self.ns, **ports)
+        given = self.world.components() if self.world is not None else self.components
+        for n in node.iterate():
+            n.setup(**given)
+        return node
+
+    def put(self, key: str, value: Any) -> None:
+        self._register(key)
+        self.bb.set(key, value)
+
+    def get(self, key: str) -> Any:
+        self._register(key)
+        return self.bb.get(key) if self.bb.exists(key) else None
+
+    def _register(self, key: str) -> None:
+        from py_trees.common import Access
+        if not self.bb.is_registered(key):
+            self.bb.register_key(key, access=Access.WRITE)
+
+    @staticmethod
+    def tick(node: Any) -> Any:
+        node.tick_once()
+        return node.status
+
+    def run(self, node: Any, max_ticks: int = 2000) -> tuple[Any, int]:
+        """Tick until it finishes, applying ``cmd_vel`` to the World's robot each period:
+        (final status, ticks used)."""
+        from py_trees.common import Status
+        assert self.world is not None, "run needs a World"
+        for i in range(max_ticks):
+            self.put("cmd_vel", Twist.zero())
+            node.tick_once()
+            if node.status != Status.RUNNING:
+                return node.status, i + 1
+            self.world.step(self.get("cmd_vel"))
+        return node.status, max_ticks
+
+
 def run_tree(tree: Any, world: World, max_ticks: int = 5000,
              on_tick: Callable[[int, World], None] | None = None) -> tuple[Any, int]:
     """Tick a LoadedTree-like object (``tick() -> Twist``, ``status``) until it finishes.
@@ -245,7 +301,7 @@ def run_tree(tree: Any, world: World, max_ticks: int = 5000,
     return tree.status, max_ticks
 
 
-__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World",
+__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World", "NodeRig",
            "NoopPlanner", "NoopController", "run_tree", "straight_path", "DWA_LIKE"]
 
 

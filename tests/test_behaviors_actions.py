@@ -2,60 +2,27 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
 
 import pytest
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
 from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError, PlannerError,
                                  RecoveryError, SpinError)
-from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, straight_path
+from behaviors.testing import (FakeCostmap, NodeRig, ScriptedController, ScriptedPlanner, World,
+                               straight_path)
 from navcore.types import Path, Pose2D, Twist
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
-_ns = itertools.count()
 
 
-class Rig:
-    """One node, a World, and the blackboard of its namespace."""
+class Rig(NodeRig):
+    """One node, a World (a fresh one by default), and the blackboard of its namespace."""
 
     def __init__(self, world: World | None = None):
-        self.world = world or World()
-        self.ns = f"/act{next(_ns)}"
-        self.bb = Client(name="rig", namespace=self.ns)
-
-    def node(self, node_type, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        for m in n.iterate():
-            m.setup(**self.world.components())
-        return n
-
-    def put(self, key, value):
-        self._reg(key)
-        self.bb.set(key, value)
-
-    def get(self, key):
-        self._reg(key)
-        return self.bb.get(key) if self.bb.exists(key) else None
-
-    def _reg(self, key):
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.WRITE)
-
-    def run(self, node, max_ticks=2000):
-        """Tick until finished, applying cmd_vel to the robot; returns (status, ticks)."""
-        for i in range(max_ticks):
-            self.put("cmd_vel", Twist.zero())
-            node.tick_once()
-            if node.status != R:
-                return node.status, i + 1
-            self.world.step(self.get("cmd_vel"))
-        return node.status, max_ticks
+        super().__init__(world or World())
 
 
 def test_compute_path_to_pose_writes_path_or_error_code():

@@ -2,46 +2,29 @@
 
 from __future__ import annotations
 
-import itertools
 
 import numpy as np
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
 from navcore.error_codes import ControllerError, PlannerError
-from behaviors.testing import FakeCostmap, FakeRobot, straight_path
+from behaviors.testing import FakeCostmap, FakeRobot, NodeRig, straight_path
 from hw.interfaces import BatteryState
 from navcore.clock import SimClock
-from navcore.types import Path, Pose2D
+from navcore.types import Pose2D
 
 S, F, I = Status.SUCCESS, Status.FAILURE, Status.INVALID
-_ns = itertools.count()
 
 
-class Env:
+class Env(NodeRig):
+    """A node on a fake robot and a sim clock, plus the components given."""
+
     def __init__(self, **components):
-        self.ns = f"/cond{next(_ns)}"
-        self.clock = SimClock()
-        self.robot = FakeRobot()
-        self.components = {"clock": self.clock, "robot": self.robot, "control_period": 0.05,
-                           **components}
-        self.bb = Client(name="test", namespace=self.ns)
-
-    def node(self, node_type, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        n.setup(**self.components)
-        return n
-
-    def put(self, key, value):
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.WRITE)
-        self.bb.set(key, value)
+        self.clock, self.robot = SimClock(), FakeRobot()
+        super().__init__({"clock": self.clock, "robot": self.robot, "control_period": 0.05,
+                          **components})
 
 
-def tick(node):
-    node.tick_once()
-    return node.status
+tick = NodeRig.tick
 
 
 def test_goal_reached():

@@ -3,16 +3,13 @@ FindGateOnPath, on scripted motions and walls of their own (none a catalogue sce
 
 from __future__ import annotations
 
-import itertools
 import math
 
 import numpy as np
 import pytest
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
-from behaviors.testing import FakeRobot, straight_path
+from behaviors.testing import FakeRobot, NodeRig, straight_path
 from navcore.clock import SimClock
 from navcore.costmap.layered import LayeredCostmap
 from navcore.motion.dither import DitherCheck
@@ -21,7 +18,6 @@ from navcore.synthetic_maps import ascii_map
 from navcore.types import Path, Pose2D
 
 S, F = Status.SUCCESS, Status.FAILURE
-_ns = itertools.count()
 RES = 0.05
 FOOTPRINT = [[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]]
 
@@ -56,31 +52,7 @@ def test_dither_check_fires_on_swinging_not_on_driving_or_waiting():
         assert not detour.dithering(t, 10.0, 1.0) or t >= 13.0
 
 
-class Env:
-    def __init__(self, components: dict) -> None:
-        self.ns = f"/dither{next(_ns)}"
-        self.components = components
-        self.bb = Client(name="test", namespace=self.ns)
-
-    def node(self, node_type: str, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        n.setup(**self.components)
-        return n
-
-    def put(self, key: str, value) -> None:
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.WRITE)
-        self.bb.set(key, value)
-
-    def get(self, key: str):
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.READ)
-        return self.bb.get(key) if self.bb.exists(key) else None
-
-
-def tick(node) -> Status:
-    node.tick_once()
-    return node.status
+Env, tick = NodeRig, NodeRig.tick
 
 
 def test_is_dithering_tick_by_tick_with_commit_and_goal_reset():

@@ -3,14 +3,11 @@ scenario catalogue): a goal on a sensed box, a goal behind a wall, a goal deep i
 
 from __future__ import annotations
 
-import itertools
 
 import numpy as np
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
-from behaviors.testing import FakeRobot
+from behaviors.testing import FakeRobot, NodeRig
 from navcore.clock import SimClock
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.costmap.costmap2d import Costmap2D
@@ -23,7 +20,6 @@ from navcore.synthetic_maps import ascii_map
 from navcore.types import Pose2D
 
 S, F = Status.SUCCESS, Status.FAILURE
-_ns = itertools.count()
 
 # 8 m x 4 m at 0.2 m; a wall at x 4.0..4.2 with no door below y 3.0 (a way round at the top)
 ROOM = "\n".join(["########################################"]
@@ -115,33 +111,16 @@ def test_a_free_goal_is_kept_and_an_occupied_one_moves_to_the_reachable_side():
     assert none.pose is None and not none.substituted
 
 
-class Env:
+class Env(NodeRig):
+    """A node on a real costmap with navfn planning on it and a fake robot at ``pose``."""
+
     def __init__(self, cm: LayeredCostmap, pose: Pose2D) -> None:
-        self.ns = f"/freegoal{next(_ns)}"
         self.planner = make_planner("navfn/NavfnROS", cm.costmap)
-        self.components = {"clock": SimClock(), "robot": FakeRobot(pose), "control_period": 0.05,
-                           "global_costmap": cm, "planners": {"GridBased": self.planner}}
-        self.bb = Client(name="test", namespace=self.ns)
-
-    def node(self, node_type: str, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        n.setup(**self.components)
-        return n
-
-    def put(self, key: str, value) -> None:
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.WRITE)
-        self.bb.set(key, value)
-
-    def get(self, key: str):
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.READ)
-        return self.bb.get(key) if self.bb.exists(key) else None
+        super().__init__({"clock": SimClock(), "robot": FakeRobot(pose), "control_period": 0.05,
+                          "global_costmap": cm, "planners": {"GridBased": self.planner}})
 
 
-def tick(node) -> Status:
-    node.tick_once()
-    return node.status
+tick = NodeRig.tick
 
 
 def test_nearest_free_goal_node_follows_the_goal_as_the_sensors_cover_it():

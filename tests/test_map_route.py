@@ -3,14 +3,11 @@ tick on scripted worlds: a wall with a doorway that sensed points fill, and a cl
 
 from __future__ import annotations
 
-import itertools
 
 import numpy as np
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
-from behaviors.testing import FakeRobot
+from behaviors.testing import FakeRobot, NodeRig
 from navcore.clock import SimClock
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.costmap.layered import LayeredCostmap
@@ -20,7 +17,6 @@ from navcore.synthetic_maps import ascii_map
 from navcore.types import Pose2D
 
 S, F = Status.SUCCESS, Status.FAILURE
-_ns = itertools.count()
 
 # 8 m x 6.4 m (0.2 m cells); a wall at x 4.0..4.2 m with a doorway at y 0.4..1.0 and a gap
 # near the top (y 5.6..5.8)
@@ -108,29 +104,17 @@ def test_map_only_route_is_the_short_one_while_the_real_planner_detours():
     assert real.path.length() > 2.0 * short               # round the top gap
 
 
-class Env:
+class Env(NodeRig):
+    """A node on a real costmap with navfn planning on it and a fake robot at ``pose``."""
+
     def __init__(self, cm: LayeredCostmap, pose: Pose2D) -> None:
-        self.ns = f"/maproute{next(_ns)}"
         self.robot = FakeRobot(pose)
         self.planner = make_planner("navfn/NavfnROS", cm.costmap)
-        self.components = {"clock": SimClock(), "robot": self.robot, "control_period": 0.05,
-                           "global_costmap": cm, "planners": {"GridBased": self.planner}}
-        self.bb = Client(name="test", namespace=self.ns)
-
-    def node(self, node_type: str, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        n.setup(**self.components)
-        return n
-
-    def put(self, key: str, value) -> None:
-        if not self.bb.is_registered(key):
-            self.bb.register_key(key, access=Access.WRITE)
-        self.bb.set(key, value)
+        super().__init__({"clock": SimClock(), "robot": self.robot, "control_period": 0.05,
+                          "global_costmap": cm, "planners": {"GridBased": self.planner}})
 
 
-def tick(node) -> Status:
-    node.tick_once()
-    return node.status
+tick = NodeRig.tick
 
 
 def test_is_detour_long_fires_once_per_goal_on_a_detour_and_never_on_the_direct_plan():

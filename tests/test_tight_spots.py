@@ -10,11 +10,9 @@ import math
 
 import numpy as np
 import pytest
-from py_trees.blackboard import Client
-from py_trees.common import Access, Status
+from py_trees.common import Status
 
-from behaviors.base import make
-from behaviors.testing import FakeRobot, World
+from behaviors.testing import FakeRobot, NodeRig, World
 from navcore.clock import SimClock
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.costmap.layered import LayeredCostmap
@@ -224,28 +222,13 @@ def test_global_planner_reports_a_start_in_inscribed_cost_navfn_plans_from_it():
 _ns = itertools.count()
 
 
-class Rig:
+class Rig(NodeRig):
     """One node on a real costmap (local and global alike) with a kinematic robot."""
 
     def __init__(self, g: np.ndarray, pose: Pose2D) -> None:
         cm = costmap(g)
-        self.world = World(robot=FakeRobot(pose), local_costmap=cm, global_costmap=cm,
-                           control_period=0.1)
-        self.ns = f"/tight{next(_ns)}"
-        self.bb = Client(name="rig", namespace=self.ns)
-
-    def put(self, key, value):
-        self.bb.register_key(key, access=Access.WRITE)
-        self.bb.set(key, value)
-
-    def get(self, key):
-        self.bb.register_key(key, access=Access.READ)
-        return self.bb.get(key) if self.bb.exists(key) else None
-
-    def node(self, node_type, **ports):
-        n = make(node_type, namespace=self.ns, **ports)
-        n.setup(**self.world.components())
-        return n
+        super().__init__(World(robot=FakeRobot(pose), local_costmap=cm, global_costmap=cm,
+                               control_period=0.1))
 
     def run(self, node, max_ticks=1000):
         """Tick until it finishes, the robot following cmd_vel; (status, ticks, poses)."""
