@@ -5,11 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, Port, PortInformation, Status
-from navcore.motion.line_up import footprint_of, pre_pose
+from behaviors.costmap_choice import MeasuresOnCostmap
+from navcore.motion.line_up import pre_pose
 from navcore.types import Pose2D
 
 
-class ComputePrePose(Leaf):
+class ComputePrePose(MeasuresOnCostmap, Leaf):
     """Write ``pre_pose``: a pose on ``goal``'s heading line, facing the goal, at least
     ``prepose_distance`` m back from it and far enough out that the robot can turn on the spot
     there without entering the narrow part (less than ``narrow_margin`` m per side beyond the
@@ -31,16 +32,13 @@ class ComputePrePose(Leaf):
     }
     OUTPUT_PORTS = {"pre_pose": PortInformation(Pose2D, True, "where to line up")}
     DEFAULT_KEYS = {"goal": "goal", "pre_pose": "pre_pose"}
-    CHOICES = {"costmap": ("local", "global")}
 
     def setup(self, **kwargs: Any) -> None:
-        self.costmaps = {"local": kwargs.get("local_costmap"),
-                         "global": kwargs.get("global_costmap")}
+        self.take_costmaps(kwargs)
 
     def update(self) -> Status:
         goal = self.read("goal")
-        handle = self.costmaps.get(self.get_input("costmap"))
-        fp = footprint_of(handle)
+        handle, fp = self.costmap_and_footprint()
         if goal is None or fp is None:
             self.say("no goal" if goal is None else "the costmap has no footprint polygon")
             return FAILURE

@@ -5,12 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 from behaviors.base import FAILURE, SUCCESS, Leaf, Port, PortInformation, Status
+from behaviors.costmap_choice import MeasuresOnCostmap
 from navcore.motion.gate import gate_on_path
-from navcore.motion.line_up import footprint_of
 from navcore.types import Path, Pose2D
 
 
-class FindGateOnPath(Leaf):
+class FindGateOnPath(MeasuresOnCostmap, Leaf):
     """Write ``gate``: where the robot drives straight to through the narrowest place of
     ``path`` within ``lookahead`` m ahead of it, when the room there is less than
     ``narrow_margin`` m per side beyond the footprint (a gap in a wall, a doorway): the pose on
@@ -30,17 +30,14 @@ class FindGateOnPath(Leaf):
     }
     OUTPUT_PORTS = {"gate": PortInformation(Pose2D, True, "where to drive straight to")}
     DEFAULT_KEYS = {"path": "path", "gate": "gate"}
-    CHOICES = {"costmap": ("local", "global")}
 
     def setup(self, **kwargs: Any) -> None:
         self.robot = self.component(kwargs, "robot")
-        self.costmaps = {"local": kwargs.get("local_costmap"),
-                         "global": kwargs.get("global_costmap")}
+        self.take_costmaps(kwargs)
 
     def update(self) -> Status:
         path = self.read("path")
-        handle = self.costmaps.get(self.get_input("costmap"))
-        fp = footprint_of(handle)
+        handle, fp = self.costmap_and_footprint()
         if path is None or fp is None:
             self.say("no path" if path is None else "the costmap has no footprint polygon")
             return FAILURE

@@ -6,11 +6,12 @@ from typing import Any
 
 from behaviors.base import FAILURE, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition, yes
-from navcore.motion.line_up import footprint_of, goal_room
+from behaviors.costmap_choice import MeasuresOnCostmap
+from navcore.motion.line_up import goal_room
 from navcore.types import Pose2D
 
 
-class IsGoalInNarrowSpace(Condition):
+class IsGoalInNarrowSpace(MeasuresOnCostmap, Condition):
     """SUCCESS when the free width across ``goal`` (between the walls either side of the
     robot's body standing there, narrowest over its length, measured on the ``costmap``'s
     lethal cells) leaves less than ``narrow_margin`` metres per side beyond the footprint: a
@@ -26,17 +27,14 @@ class IsGoalInNarrowSpace(Condition):
     }
     OUTPUT_PORTS = {"free_width": PortInformation(float, False, "free width across the goal, m")}
     DEFAULT_KEYS = {"goal": "goal"}
-    CHOICES = {"costmap": ("local", "global")}
 
     def setup(self, **kwargs: Any) -> None:
         super().setup(**kwargs)
-        self.costmaps = {"local": kwargs.get("local_costmap"),
-                         "global": kwargs.get("global_costmap")}
+        self.take_costmaps(kwargs)
 
     def update(self) -> Status:
         goal = self.read("goal")
-        handle = self.costmaps.get(self.get_input("costmap"))
-        fp = footprint_of(handle)
+        handle, fp = self.costmap_and_footprint()
         if goal is None or fp is None:
             self.say("no goal" if goal is None else "the costmap has no footprint polygon")
             return FAILURE
