@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
                                               OBSERVED_IN, UNOBSERVED)
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, Port, PortInformation, Status
 from navcore.error_codes import RecoveryError
 from navcore.motion.geometry import heading_to
 from navcore.motion.trail import back_off_trail
@@ -58,19 +58,13 @@ class BackOffToPreviousPose(RecoveryAction):
     def update(self) -> Status:
         pose = self.robot.pose()
         if not self._trail:
-            self.stop_motion()
-            self.report(RecoveryError.NO_POSE_HISTORY, "no trail to back off along")
-            return FAILURE
+            return self.finish(RecoveryError.NO_POSE_HISTORY, "no trail to back off along")
         target = self._trail[-1]
         if pose.distance_to(target) <= self.get_input("xy_goal_tolerance"):
-            self.stop_motion()
-            self.report(RecoveryError.NONE, "back at the previous pose")
-            return SUCCESS
+            return self.finish(RecoveryError.NONE, "back at the previous pose")
         if self.clock.now() - self._start > self.get_input("time_allowance") \
                 or self.no_progress(pose):
-            self.stop_motion()
-            self.report(RecoveryError.TIMEOUT, "time out or no progress")
-            return FAILURE
+            return self.finish(RecoveryError.TIMEOUT, "time out or no progress")
         cmd, self._i, hit = self.pursue(pose, self._trail, self._i, target,
                                         self.get_input("speed"), self.get_input("lookahead"),
                                         self.get_input("max_rotational_vel"))

@@ -6,7 +6,7 @@ import math
 
 from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
                                               OBSERVED_IN)
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
+from behaviors.base import RUNNING, Port, PortInformation, Status
 from navcore.error_codes import BackUpError, DriveOnHeadingError
 from navcore.types import Pose2D, Twist
 
@@ -44,21 +44,16 @@ class DriveOnHeading(RecoveryAction):
     def update(self) -> Status:
         dist, speed = self.distance_and_speed()
         if dist * speed < 0.0 or speed == 0.0:
-            self.stop_motion()
-            self.report(self.ERRORS.INVALID_INPUT, f"distance {dist} and speed {speed} must be "
-                                                     f"non-zero with the same sign")
-            return FAILURE
+            return self.finish(self.ERRORS.INVALID_INPUT,
+                               f"distance {dist} and speed {speed} must be non-zero with the "
+                               f"same sign")
         pose = self.robot.pose()
         travelled = pose.distance_to(self._start_pose)
         remaining = abs(dist) - travelled
         if remaining <= 1e-3:
-            self.stop_motion()
-            self.report(self.ERRORS.NONE, f"drove {travelled:.2f} m")
-            return SUCCESS
+            return self.finish(self.ERRORS.NONE, f"drove {travelled:.2f} m")
         if self.clock.now() - self._start > self.get_input("time_allowance"):
-            self.stop_motion()
-            self.report(self.ERRORS.TIMEOUT, f"time out after {travelled:.2f} m")
-            return FAILURE
+            return self.finish(self.ERRORS.TIMEOUT, f"time out after {travelled:.2f} m")
         direction = 1.0 if dist > 0.0 else -1.0
         v = min(abs(speed), remaining / self.control_period)
         if not self.get_input("disable_collision_checks"):
@@ -68,17 +63,13 @@ class DriveOnHeading(RecoveryAction):
                      for k in range(1, n + 1)]
             hit = self.first_collision(poses, pose)
             if hit is not None:
-                self.stop_motion()
-                self.report(self.ERRORS.COLLISION_AHEAD,
-                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
-                return FAILURE
+                return self.finish(self.ERRORS.COLLISION_AHEAD,
+                                   f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m ahead")
             blind = self.first_unobserved(poses, pose)
             if blind is not None:
-                self.stop_motion()
-                self.report(self.ERRORS.UNOBSERVED_SPACE,
-                            f"not observed free within {self.get_input('observed_within')} s: "
-                            f"{blind[1]:.2f} m ahead")
-                return FAILURE
+                return self.finish(self.ERRORS.UNOBSERVED_SPACE,
+                                   f"not observed free within "
+                                   f"{self.get_input('observed_within')} s: {blind[1]:.2f} m ahead")
         self.write("cmd_vel", Twist(direction * v, 0.0, 0.0))
         self.say("drove {:.2f} of {:.2f} m", travelled, abs(dist))
         return RUNNING

@@ -16,7 +16,8 @@ from __future__ import annotations
 from enum import IntEnum
 from typing import Any, Iterable
 
-from behaviors.base import INVALID, RUNNING, Leaf, Port, PortInformation, Recovery, Status
+from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Leaf, Port, PortInformation,
+                            Recovery, Status)
 from navcore.controllers.progress import ProgressChecker
 from navcore.motion.collision import first_collision
 from navcore.motion.pursuit import pure_pursuit, swept_poses
@@ -74,6 +75,13 @@ class RecoveryAction(Recovery, Leaf):
         if "error_msg" in outputs:  # Nav2 Kilted+: the reason as text, "" on success
             self.write("error_msg", "" if code == 0 else msg)
         self.say(msg)
+
+    def finish(self, code: IntEnum, msg: str = "") -> Status:
+        """End the action: the zero command, ``code`` and ``msg`` reported; SUCCESS for code 0
+        (NONE), else FAILURE."""
+        self.stop_motion()
+        self.report(code, msg)
+        return SUCCESS if int(code) == 0 else FAILURE
 
     def first_collision(self, poses: Iterable[Pose2D], start: Pose2D | None = None
                         ) -> tuple[Pose2D, int] | None:

@@ -6,7 +6,7 @@ import math
 
 from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
                                               OBSERVED_IN)
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
+from behaviors.base import RUNNING, Port, PortInformation, Status
 from navcore.error_codes import SpinError
 from navcore.types import Pose2D, Twist, angle_diff
 
@@ -59,14 +59,10 @@ class Spin(RecoveryAction):
         self._prev = pose.theta
         remaining = abs(target) - self._turned
         if remaining <= self.get_input("yaw_goal_tolerance"):
-            self.stop_motion()
-            self.report(SpinError.NONE, f"turned {self._turned:.2f} rad")
-            return SUCCESS
+            return self.finish(SpinError.NONE, f"turned {self._turned:.2f} rad")
         if self.clock.now() - self._start > self.get_input("time_allowance"):
-            self.stop_motion()
-            self.report(SpinError.TIMEOUT, f"time out after {self._turned:.2f} of "
-                                               f"{abs(target):.2f} rad")
-            return FAILURE
+            return self.finish(SpinError.TIMEOUT, f"time out after {self._turned:.2f} of "
+                                                      f"{abs(target):.2f} rad")
         acc = self.get_input("rotational_acc_lim")
         w = math.sqrt(2.0 * acc * remaining)
         w = min(max(w, self.get_input("min_rotational_vel")), self.get_input("max_rotational_vel"))
@@ -79,17 +75,14 @@ class Spin(RecoveryAction):
                      for k in range(1, n + 1)]
             hit = self.first_collision(poses, pose)
             if hit is not None:
-                self.stop_motion()
-                self.report(SpinError.COLLISION_AHEAD,
-                            f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
-                return FAILURE
+                return self.finish(SpinError.COLLISION_AHEAD,
+                                   f"blocked: cost {hit[1]} at yaw {hit[0].theta:.2f}")
             blind = self.first_unobserved(poses, pose)
             if blind is not None:
-                self.stop_motion()
-                self.report(SpinError.UNOBSERVED_SPACE,
-                            f"sweep not observed free within "
-                            f"{self.get_input('observed_within')} s at yaw {blind[0].theta:.2f}")
-                return FAILURE
+                return self.finish(SpinError.UNOBSERVED_SPACE,
+                                   f"sweep not observed free within "
+                                   f"{self.get_input('observed_within')} s "
+                                   f"at yaw {blind[0].theta:.2f}")
         self._w = sign * w
         self.write("cmd_vel", Twist(0.0, 0.0, self._w))
         self.say("turned {:.2f} of {:.2f} rad", self._turned, abs(target))

@@ -72,26 +72,20 @@ class StartEscape(RecoveryAction):
             self.report(RecoveryError.NONE, f"footprint free (cost {cost}) after {moved:.2f} m")
             return SUCCESS
         if self.clock.now() - self._start > self.get_input("time_allowance"):
-            self.stop_motion()
-            self.report(RecoveryError.TIMEOUT, "time out, footprint still in inflated space")
-            return FAILURE
+            return self.finish(RecoveryError.TIMEOUT, "time out, footprint still in inflated space")
         m = self._motion
         if m is not None and pose.distance_to(self._from) > m.distance + OVERSHOOT:
             m = None            # gone the whole way and still not free: the costmap changed
         if m is None:
             if self._searches >= SEARCHES:
-                self.stop_motion()
-                self.report(RecoveryError.NO_FREE_POSE, f"still in cost {cost} after "
-                                                        f"{self._searches} motions")
-                return FAILURE
+                return self.finish(RecoveryError.NO_FREE_POSE, f"still in cost {cost} after "
+                                                               f"{self._searches} motions")
             self._searches += 1
             m = straightest_escape(handle, pose, self.get_input("max_distance"))
             if m is None:
-                self.stop_motion()
-                self.report(RecoveryError.NO_FREE_POSE,
-                            f"no straight or arc motion frees the footprint within "
-                            f"{self.get_input('max_distance'):.2f} m")
-                return FAILURE
+                return self.finish(RecoveryError.NO_FREE_POSE,
+                                   f"no straight or arc motion frees the footprint within "
+                                   f"{self.get_input('max_distance'):.2f} m")
             self._motion, self._from, self._gap = m, pose, start_gap(handle, pose)
         speed = self.get_input("speed")
         left = max(m.distance - pose.distance_to(self._from), 0.0) + OVERSHOOT
@@ -105,17 +99,13 @@ class StartEscape(RecoveryAction):
             if near is not None:
                 hit = (way[near], LETHAL_OBSTACLE)
             if hit is not None:
-                self.stop_motion()
-                self.report(RecoveryError.COLLISION_AHEAD,
-                            f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m on")
-                return FAILURE
+                return self.finish(RecoveryError.COLLISION_AHEAD,
+                                   f"blocked: cost {hit[1]} {hit[0].distance_to(pose):.2f} m on")
             blind = self.first_unobserved(way, pose)
             if blind is not None:
-                self.stop_motion()
-                self.report(RecoveryError.UNOBSERVED_SPACE,
-                            f"not observed free within {self.get_input('observed_within')} s: "
-                            f"{blind[1]:.2f} m on")
-                return FAILURE
+                return self.finish(RecoveryError.UNOBSERVED_SPACE,
+                                   f"not observed free within "
+                                   f"{self.get_input('observed_within')} s: {blind[1]:.2f} m on")
         self.write("cmd_vel", Twist(v, 0.0, v * m.curvature))
         kind = "straight" if m.curvature == 0.0 else f"arc of radius {1.0 / abs(m.curvature):.1f} m"
         self.say("{} {}, {:.2f} of {:.2f} m", kind,

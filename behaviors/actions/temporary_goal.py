@@ -6,7 +6,8 @@ from typing import Any
 
 from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
                                               OBSERVED_IN, UNOBSERVED)
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
+from behaviors.base import FAILURE, RUNNING, Port, PortInformation, Status
+from navcore.controllers.result import ControlStatus
 from navcore.error_codes import RecoveryError
 from navcore.motion.escape import arc_goal, rank_candidates
 from navcore.motion.geometry import ring_candidates
@@ -108,9 +109,7 @@ class TemporaryGoal(RecoveryAction):
     def update(self) -> Status:
         pose = self.robot.pose()
         if self.clock.now() - self._start > self.get_input("time_allowance"):
-            self.stop_motion()
-            self.report(RecoveryError.TIMEOUT, "time out")
-            return FAILURE
+            return self.finish(RecoveryError.TIMEOUT, "time out")
         if self._goal is None:
             return self._search(pose)
         return self._drive(pose)
@@ -140,9 +139,7 @@ class TemporaryGoal(RecoveryAction):
             return FAILURE
         for _ in range(self.get_input("max_plans_per_tick")):
             if not self._candidates:
-                self.stop_motion()
-                self.report(RecoveryError.NO_FREE_POSE, "no reachable free pose nearby")
-                return FAILURE
+                return self.finish(RecoveryError.NO_FREE_POSE, "no reachable free pose nearby")
             cand = self._candidates.pop(0)
             result = planner.make_plan(pose, cand)
             if result.ok and result.path is not None and len(result.path) > 0:
@@ -159,28 +156,22 @@ class TemporaryGoal(RecoveryAction):
         result = None
         if self._controller is not None and not self._own:
             result = self._controller.compute_velocity(pose, self.robot.velocity())
-            reached = (reached or result.status == "goal_reached"
+            reached = (reached or result.status == ControlStatus.GOAL_REACHED
                        or self._controller.is_goal_reached())
         if reached:
-            self.stop_motion()
-            self.report(RecoveryError.NONE, "reached the temporary goal")
-            return SUCCESS
+            return self.finish(RecoveryError.NONE, "reached the temporary goal")
         if self.no_progress(pose):
-            self.stop_motion()
-            self.report(RecoveryError.TIMEOUT, "no progress toward the temporary goal")
-            return FAILURE
-        if result is not None and not result.status.startswith("no_valid"):
+            return self.finish(RecoveryError.TIMEOUT, "no progress toward the temporary goal")
+        if result is not None and result.status != ControlStatus.NO_VALID_TRAJECTORY:
             cmd = result.cmd
             if cmd.vx < 0.0 and not self.get_input("disable_collision_checks"):
                 # the controller may reverse (min_vel_x < 0): only into space seen free
                 blind = self.first_unobserved(
                     swept_poses(pose, cmd.vx, cmd.wz, self.get_input("simulate_ahead_time")), pose)
                 if blind is not None:
-                    self.stop_motion()
-                    self.report(RecoveryError.UNOBSERVED_SPACE,
-                                f"controller reverses into space not observed free: "
-                                f"{blind[1]:.2f} m away")
-                    return FAILURE
+                    return self.finish(RecoveryError.UNOBSERVED_SPACE,
+                                       f"controller reverses into space not observed free: "
+                                       f"{blind[1]:.2f} m away")
         else:
             # One arc chosen, or the controller refuses to move from here (its footprint
             # already touches inflated cost, say): drive with our own footprint-checked
