@@ -153,9 +153,13 @@ SMALL = """\
     """
 
 
-def test_pool_and_dask_give_identical_records(tmp_path, catalogue):
-    """2 scenarios x 2 seeds x 3 points on a process pool and on a Dask LocalCluster."""
+def test_pool_and_dask_give_identical_records(tmp_path, catalogue, monkeypatch):
+    """2 scenarios x 2 seeds x 3 points on a process pool and on a Dask LocalCluster (with 4
+    runs in each Dask task: the runs of a task come back together and are written one by one)."""
     pytest.importorskip("dask.distributed")
+    from executive.sweeps import runner
+    monkeypatch.setattr(runner, "TASKS_PER_WORKER", 1)
+    assert runner.chunk_size(12, 2) == 4
     spec = load_sweep(_spec(tmp_path, SMALL))
     out = io.StringIO()
     a = run_sweep(spec, str(tmp_path / "pool"), jobs=2, out=out)
@@ -177,6 +181,16 @@ def test_pool_and_dask_give_identical_records(tmp_path, catalogue):
     # running the same sweep again finds everything finished
     again = run_sweep(spec, str(tmp_path / "pool"), jobs=2, out=out)
     assert (again.skipped, again.ran) == (12, 0)
+
+
+def test_dask_tasks_hold_a_few_runs_and_keep_every_worker_busy():
+    from executive.sweeps.runner import MAX_RUNS_PER_TASK, TASKS_PER_WORKER, chunk_size
+    assert chunk_size(12, 2) == 1                    # a small sweep: one run a task
+    assert chunk_size(24, 2) == 3                    # still TASKS_PER_WORKER tasks a worker
+    assert chunk_size(10_000, 2) == MAX_RUNS_PER_TASK
+    assert chunk_size(5, 0) == 1
+    for n, w in [(24, 2), (100, 3), (1000, 8)]:
+        assert -(-n // chunk_size(n, w)) >= TASKS_PER_WORKER * w
 
 
 def _is_warm() -> bool:

@@ -245,17 +245,52 @@ QUIET_WORKERS = {
 }
 
 
+def run_tasks(tasks: list[RunTask]) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+    """``run_task`` for each of a few runs: one Dask task (see ``run_dask``)."""
+    return [run_task(t) for t in tasks]
+
+
+# Runs per Dask task. Each task costs Dask's processes ~15-20 ms of CPU (scheduler, worker
+# event loop, result hand-over: docs/performance.md), a fifth of a 0.1 s run on two cores; a few
+# runs per task divide it, while TASKS_PER_WORKER tasks for each worker keep the load balanced.
+# A run's record is written when its task ends, so a killed sweep reruns at most the runs of the
+# tasks in flight (MAX_RUNS_PER_TASK each), as a pool reruns the runs in flight.
+MAX_RUNS_PER_TASK = 4
+TASKS_PER_WORKER = 4
+
+
+def chunk_size(n_tasks: int, n_workers: int) -> int:
+    """How many runs go in one Dask task for ``n_tasks`` runs on ``n_workers`` workers."""
+    return max(1, min(MAX_RUNS_PER_TASK, n_tasks // (TASKS_PER_WORKER * max(1, n_workers))))
+
+
 def run_dask(tasks: list[RunTask], client: Any, on_result: OnResult) -> None:
-    """On a Dask cluster whose workers are warm (``WarmKernels``); dask re-runs a
-    task whose worker died, and a task that keeps killing workers is recorded as an error."""
+    """On a Dask cluster whose workers are warm (``WarmKernels``), a few runs per task
+    (``chunk_size``); results are written run by run as each task ends. Dask re-runs a task
+    whose worker died; a task that keeps killing workers is split and its runs tried one by one,
+    so the run that kills its worker is the one recorded as an error."""
     from dask.distributed import as_completed
-    futures = client.map(run_task, tasks, pure=False)
-    by_key = {f.key: t for f, t in zip(futures, tasks)}
-    for f in as_completed(futures):
-        t = by_key[f.key]
+    workers = len(client.scheduler_info().get("workers", {})) or 1
+    k = chunk_size(len(tasks), workers)
+    chunks = [tasks[i:i + k] for i in range(0, len(tasks), k)]
+    futures = client.map(run_tasks, chunks, pure=False)
+    by_key = {f.key: c for f, c in zip(futures, chunks)}
+    done = as_completed(futures)
+    for f in done:
+        chunk = by_key.pop(f.key)
         try:
-            record, timing = f.result()
-        except Exception as e:  # noqa: BLE001 - KilledWorker and friends: that run's error
-            record, timing = _error_record(t, f"{type(e).__name__}: {e}"), {"worker": "?"}
-        on_result(t, record, timing)
+            results = f.result()
+        except Exception as e:  # noqa: BLE001 - KilledWorker and friends
+            if len(chunk) > 1:   # try its runs alone: only the culprit becomes an error
+                for t in chunk:
+                    g = client.submit(run_tasks, [t], pure=False)
+                    by_key[g.key] = [t]
+                    done.add(g)
+            else:
+                t = chunk[0]
+                on_result(t, _error_record(t, f"{type(e).__name__}: {e}"), {"worker": "?"})
+            f.release()
+            continue
+        for t, (record, timing) in zip(chunk, results):
+            on_result(t, record, timing)
         f.release()
