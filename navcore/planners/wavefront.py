@@ -632,15 +632,15 @@ def sync_view(view: np.ndarray, costs: np.ndarray, free_cell: int, changed: np.n
     end = ns - ns % 64
     cw = costs[:end].view(np.uint64)
     vw = view[:end].view(np.uint64)
-    fb = free_cell // 64
     n = 0
-    for b in range(0, end // 8, 8):  # 8 words = 64 cells a block
-        diff = np.uint64(0)
-        for w in range(b, b + 8):
-            diff |= cw[w] ^ vw[w]
-        if diff == 0 and b // 8 != fb:
-            continue
-        for i in range(8 * b, 8 * b + 64):
+    for start in range(0, ns, 64):  # blocks of 64 cells (8 words); the last may be shorter
+        if start < end and start != free_cell - free_cell % 64:
+            diff = np.uint64(0)
+            for w in range(start // 8, start // 8 + 8):
+                diff |= cw[w] ^ vw[w]
+            if diff == 0:
+                continue
+        for i in range(start, min(start + 64, ns)):
             want = 0 if i == free_cell else costs[i]
             if view[i] != want:
                 if n >= cap:
@@ -648,14 +648,6 @@ def sync_view(view: np.ndarray, costs: np.ndarray, free_cell: int, changed: np.n
                 changed[n] = i
                 n += 1
                 view[i] = want
-    for i in range(end, ns):
-        want = 0 if i == free_cell else costs[i]
-        if view[i] != want:
-            if n >= cap:
-                return -1
-            changed[n] = i
-            n += 1
-            view[i] = want
     return n
 
 
