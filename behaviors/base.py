@@ -38,6 +38,7 @@ __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInfor
 RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAILURE, Status.INVALID
 
 _MISSING = object()
+_VETTED: set[type] = set()  # node classes whose first instance passed PortsMixin.__init__
 _BB = py_trees.blackboard.Blackboard  # its class-level ``storage`` dict holds every key
 
 
@@ -107,7 +108,20 @@ class NavNode(PortsMixin):
     CATEGORY: ClassVar[str] = "Action"
 
     def __init__(self, name: str = "", **kwargs: Any) -> None:
-        super().__init__(name=name or type(self).__name__, **kwargs)
+        cls = type(self)
+        if cls in _VETTED:
+            # PortsMixin.__init__ without its abstract-class check, which scans dir() of the
+            # class on every instance (a third of a tree's build); the class's first instance
+            # ran it, and the class cannot change since (ABC refuses abstract classes anyway)
+            class_name = kwargs.pop("behaviour_class_name", None)
+            super(PortsMixin, self).__init__(name=name or cls.__name__, **kwargs)
+            self._blackboard_client = None
+            self._subtree_namespace = None
+            self._ports_logger = None
+            self._behaviour_class_name = cls.__name__ if class_name is None else class_name
+        else:
+            super().__init__(name=name or cls.__name__, **kwargs)
+            _VETTED.add(cls)
         self._literals: dict[str, Any] = {}
         self.namespace = "/"
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import itertools
 
+import pytest
 from py_trees.behaviours import StatusQueue
 from py_trees.common import Status
 
-from behaviors.base import make
+from behaviors.base import Leaf, PortInformation, make
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
 _ns = itertools.count()
@@ -57,3 +58,38 @@ def test_a_wired_port_holding_the_wrong_type_is_an_error_naming_it():
         node.read("path")
     del py_trees.blackboard.Blackboard.storage[f"{ns}/plan"]
     assert node.read("path") is None
+
+
+def test_later_instances_of_a_class_are_built_as_py_trees_builds_the_first():
+    # the first instance of a node class goes through PortsMixin.__init__ (its abstract-class
+    # check included); later ones skip the check: same attributes, same values otherwise
+    class Probe(Leaf, register=False):
+        INPUT_PORTS = {"x": PortInformation(float, False, "x", 1.0)}
+        OUTPUT_PORTS: dict = {}
+
+        def update(self):
+            return S
+
+    first, second = Probe(name="p"), Probe(name="p")
+    third = Probe(name="q", behaviour_class_name="Alias")
+    assert sorted(vars(first)) == sorted(vars(second)) == sorted(vars(third))
+    for attr in ("_blackboard_client", "_subtree_namespace", "_ports_logger", "_literals",
+                 "namespace", "status", "children", "parent", "blackboards"):
+        assert getattr(first, attr) == getattr(second, attr), attr
+    assert (first._behaviour_class_name, second._behaviour_class_name,
+            third._behaviour_class_name) == ("Probe", "Probe", "Alias")
+    assert first.id != second.id and third.name == "q"
+    for node in (first, second):  # both wire and tick
+        node.wire(f"/base{next(_ns)}")
+        assert list(node.tick()) == [node] and node.status is S
+        assert node.get_input("x") == 1.0
+
+
+def test_a_class_without_port_declarations_is_refused_every_time():
+    class NoPorts(Leaf, register=False):
+        def update(self):
+            return S
+
+    for _ in range(2):
+        with pytest.raises(TypeError, match="INPUT_PORTS and OUTPUT_PORTS"):
+            NoPorts(name="n")
