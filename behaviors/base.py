@@ -156,6 +156,9 @@ class NavNode(PortsMixin):
         # wired number inputs: range-checked on read (literals were checked at load time)
         self._ranged = {p: info for p, info in self.input_ports().items()
                         if p in self._keys and info.data_type in (float, int)}
+        # the class each wired output must be given (ports typed with something else: any)
+        self._out_types = {p: info.data_type for p, info in self.output_ports().items()
+                           if p in self._keys and isinstance(info.data_type, type)}
 
     def _fast_get(self, port_name: str) -> Any:
         """Stored value of a wired port, _MISSING when absent (None counts as absent)."""
@@ -213,8 +216,8 @@ class NavNode(PortsMixin):
         if keys is None or port_name not in keys:
             self._set_output(port_name, value)
             return
-        expected = self.output_ports()[port_name].data_type
-        if isinstance(expected, type) and not isinstance(value, expected):
+        expected = self._out_types.get(port_name)
+        if expected is not None and not isinstance(value, expected):
             raise TypeError(f"{type(self).__name__} '{self.name}': port '{port_name}' takes "
                             f"{expected.__name__}, got {type(value).__name__}")
         _BB.storage[keys[port_name]] = value

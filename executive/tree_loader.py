@@ -104,6 +104,9 @@ class LoadedTree:
         """Halt everything and forget per-navigation memory: call before a new goal."""
         self.tree.interrupt()
 
+    def __post_init__(self) -> None:
+        self._cmd_key = self.namespace + "/cmd_vel"
+
     def tick(self) -> Twist:
         """Tick once and return the ``cmd_vel`` written during this tick (zero if none)."""
         cmd = self.tick_command()
@@ -113,7 +116,7 @@ class LoadedTree:
         """Tick once; the ``cmd_vel`` written during this tick, None if nothing was (the
         executive's safety gate tells "no command" from a zero one)."""
         storage = _BLACKBOARD.storage
-        key = self.namespace + "/cmd_vel"
+        key = self._cmd_key
         storage[key] = None   # direct: a client's access checks cost more than a small tick
         self.tree.tick()
         cmd = storage.get(key)
@@ -130,9 +133,8 @@ class LoadedTree:
         return to_xml(self)
 
 
-def _drain(ticking: Any) -> None:
-    """Run a tick generator to its end without looking at what it yields."""
-    deque(ticking, maxlen=0)
+# Runs a tick generator to its end without looking at what it yields (in C, keeping nothing).
+_drain = deque(maxlen=0).extend
 
 
 class LeanBehaviourTree(py_trees.trees.BehaviourTree):
@@ -145,6 +147,11 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
     """
 
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
+        if (pre_tick_handler is None and post_tick_handler is None and not self.visitors
+                and not self.pre_tick_handlers and not self.post_tick_handlers):  # the usual
+            _drain(self.root.tick())
+            self.count += 1
+            return
         if pre_tick_handler is not None:
             pre_tick_handler(self)
         for handler in self.pre_tick_handlers:

@@ -60,7 +60,7 @@ class IsDetourLong(Condition):
         if not self.route.available:
             self.say("the global costmap has no layers: cannot tell the map apart")
             return FAILURE
-        if goal != self._goal:
+        if goal is not self._goal and goal != self._goal:  # (the same object: no dataclass ==)
             self._goal, self._fired = goal, 0
         limit = self.get_input("max_per_goal")
         if limit > 0 and self._fired >= limit:

@@ -45,7 +45,7 @@ class IsDithering(Condition):
 
     def update(self) -> Status:
         now, goal = self.clock.now(), self.read("goal")
-        if goal != self._goal:
+        if goal is not self._goal and goal != self._goal:  # (the same object: no dataclass ==)
             self._goal, self._until = goal, -math.inf
             self._check.reset(now)
         if now < self._until:

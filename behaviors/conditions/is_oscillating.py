@@ -37,8 +37,8 @@ class IsOscillating(Condition):
 
     def update(self) -> Status:
         now, pose, goal = self.clock.now(), self.pose(), self.read("goal")
-        if (goal != self._goal or now - self._last_tick > 2.0 * self.control_period
-                or self._fired):
+        new_goal = goal is not self._goal and goal != self._goal  # (same object: no dataclass ==)
+        if new_goal or now - self._last_tick > 2.0 * self.control_period or self._fired:
             self._window.reset(pose, now)
             self._goal = goal
             self._fired = False

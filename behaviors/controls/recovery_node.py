@@ -53,7 +53,7 @@ class RecoveryNode(Control):
     def _maybe_reset(self, recovery: Behaviour) -> None:
         """The main child has been RUNNING ``reset_after`` s since the last recovery: start the
         recovery list again."""
-        if self._retries == 0 or self._clock is None:  # the usual tick: nothing to reset
+        if self._retries == 0 or self._clock is None:
             return
         reset_after = self.get_input("reset_after")
         if reset_after <= 0.0:
@@ -76,7 +76,8 @@ class RecoveryNode(Control):
                 self.current_child = main
                 yield from main.tick()
                 if main.status is RUNNING:
-                    self._maybe_reset(recovery)
+                    if self._retries:  # (else nothing to reset: the usual tick, no call)
+                        self._maybe_reset(recovery)
                     return RUNNING
                 if main.status is SUCCESS:
                     return SUCCESS

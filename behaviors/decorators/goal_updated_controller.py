@@ -26,6 +26,6 @@ class GoalUpdatedController(Throttle):
 
     def due(self) -> bool:
         goal = self.read("goal")
-        changed = goal != self._goal
+        changed = goal is not self._goal and goal != self._goal  # (no dataclass == per tick)
         self._goal = goal
         return changed
