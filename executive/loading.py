@@ -1,9 +1,9 @@
 """Where the executive and the CLI meet the tree loader (``executive.tree_loader``).
 
 Everything else loads trees through ``load_tree_file`` (or ``load_tree_text``) and catches
-``TreeLoadError``: one error type for "this tree cannot be used", whatever stage (reading,
-parsing, building) failed. It is the loader's own ``TreeError`` (``file:line: node: what``,
-every problem of the file, one per line).
+``TreeLoadError`` (the loader's own, from ``executive.tree_spec``): one error type for "this
+tree cannot be used", whatever stage (reading, parsing, building) failed (``file:line: node:
+what``, every problem of the file, one per line).
 """
 
 from __future__ import annotations
@@ -12,9 +12,7 @@ import os
 
 from executive import tree_loader
 from executive.tree_loader import LoadedTree
-from executive.tree_spec import TreeError
-
-TreeLoadError = TreeError   # the name the executive and the CLI use; one type, not a wrapper
+from executive.tree_spec import TreeLoadError
 
 
 def load_tree_file(path: str | os.PathLike, namespace: str = "/mission",
@@ -31,9 +29,6 @@ def load_tree_file(path: str | os.PathLike, namespace: str = "/mission",
                                     port_defaults=port_defaults)
     except (OSError, UnicodeDecodeError) as e:
         raise TreeLoadError(f"{path}: cannot read tree ({e})") from None
-
-
-load_loaded = load_tree_file   # the name validate_cmd knew it by: the same handle
 
 
 def load_tree_text(text: str, namespace: str = "/mission", name: str = "<text>") -> LoadedTree:

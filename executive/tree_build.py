@@ -1,6 +1,6 @@
 """Turn a ``TreeDoc`` into py_trees objects, validating everything first-hand.
 
-Checks (each a ``TreeError`` naming file, line and node, with close-match suggestions): unknown
+Checks (each a ``TreeLoadError`` naming file, line and node, with close-match suggestions): unknown
 node types and ports, literals of the wrong type or outside a port's choices, outputs given a
 literal, missing required ports, malformed ``{key}`` references, child counts, unknown and
 recursive subtrees.
@@ -26,7 +26,7 @@ from behaviors.btcpp.scripted import Scripted
 from behaviors.btcpp.scripting import Program, ScriptError, compile_script
 from behaviors.decorators.set_parameters import parse_values
 from executive import nav2_model
-from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors,
+from executive.tree_spec import (KEY_REF, NodeSpec, PortValue, TreeDoc, TreeLoadError, TreeErrors,
                                   did_you_mean)
 from navcore.safe_read import MAX_TREE_DEPTH, MAX_TREE_NODES
 from navcore.types import Pose2D
@@ -170,7 +170,7 @@ class Builder:
     # behavior_server values), instead of the ports' declared defaults; "Type/name" -> {port:
     # value} for one named node, over its literals (the move_base namespace's values)
     port_defaults: dict[str, dict[str, Any]] = field(default_factory=dict)
-    errors: list[TreeError] = field(default_factory=list)
+    errors: list[TreeLoadError] = field(default_factory=list)
     ignored: list[str] = field(default_factory=list)
 
     def build(self, tree_id: str | None = None) -> py_trees.behaviour.Behaviour:
@@ -213,10 +213,10 @@ class Builder:
         if doc.main_tree is None:
             if len(doc.trees) == 1:
                 return next(iter(doc.trees))
-            raise TreeError(f"{doc.source}:1: several trees ({', '.join(doc.trees)}) and no "
+            raise TreeLoadError(f"{doc.source}:1: several trees ({', '.join(doc.trees)}) and no "
                             f"'{key}' saying which one runs")
         if doc.main_tree not in doc.trees:
-            raise TreeError(f"{doc.source}:1: {key} '{doc.main_tree}' is not defined"
+            raise TreeLoadError(f"{doc.source}:1: {key} '{doc.main_tree}' is not defined"
                             f"{did_you_mean(doc.main_tree, doc.trees)}")
         return doc.main_tree
 
@@ -397,7 +397,7 @@ class Builder:
                     raise spec.error(f"output port '{port}' needs a blackboard reference such as "
                                      f"\"{{{port}}}\", got {pv.raw!r}", pv.where)
                 literals[port] = self._literal(spec, cls, port, pv, choices, self.from_text)
-            except TreeError as e:
+            except TreeLoadError as e:
                 self.errors.append(e)
         for port, by_distro in nav2_model.DISTRO_DEFAULTS.get(spec.type, {}).items():
             if port in inputs and port not in refs and port not in literals \

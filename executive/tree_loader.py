@@ -6,7 +6,7 @@
 >>> cmd = loaded.tick()          # one control period; zero Twist if nothing wrote cmd_vel
 
 Every blackboard key of the tree lives under ``namespace`` (two missions never share keys).
-Errors are ``TreeError`` with ``file:line: NodeType: what is wrong (did you mean 'x'?)``.
+Errors are ``TreeLoadError`` with ``file:line: NodeType: what is wrong (did you mean 'x'?)``.
 """
 
 from __future__ import annotations
@@ -23,12 +23,12 @@ from py_trees.common import Access, Status
 
 from behaviors.base import namespaced, node_classes
 from executive.tree_build import Builder
-from executive.tree_spec import TreeDoc, TreeError
+from executive.tree_spec import TreeDoc, TreeLoadError
 from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
 from executive.tree_yaml import read_yaml, write_yaml
 from navcore.types import Twist
 
-__all__ = ["LoadedTree", "TreeError", "load_tree", "load_xml", "load_any", "load_text",
+__all__ = ["LoadedTree", "TreeLoadError", "load_tree", "load_xml", "load_any", "load_text",
            "to_xml", "to_yaml", "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
 
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
@@ -194,14 +194,14 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
 def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
            nav2_distro: str | None = None, port_defaults: dict | None = None) -> LoadedTree:
     if not re.fullmatch(r"(/[A-Za-z0-9_]+)+/?", namespace):
-        raise TreeError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
+        raise TreeLoadError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
                         f"(letters, digits, '_'; a '.' would nest keys), got {namespace!r}")
     if main_tree is not None:
         doc.main_tree = main_tree
     try:
         distro = doc.effective_distro(nav2_distro)
     except ValueError as e:
-        raise TreeError(f"{doc.source}:1: {e}") from None
+        raise TreeLoadError(f"{doc.source}:1: {e}") from None
     builder = Builder(doc, namespace.rstrip("/"), from_text=xml, ignored_ports=NAV2_IGNORED,
                       distro=distro, port_defaults=dict(port_defaults or {}))
     tid = builder.main_tree()
@@ -273,7 +273,7 @@ def to_yaml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
 
 def _doc_of(tree: LoadedTree) -> TreeDoc:
     if tree.doc is None:
-        raise TreeError(f"{tree.source}:1: a tree built in Python has no document to export")
+        raise TreeLoadError(f"{tree.source}:1: a tree built in Python has no document to export")
     return tree.doc
 
 
@@ -282,5 +282,5 @@ def shipped_tree(name: str) -> Path:
     path = TREES_DIR / (name if name.endswith((".yaml", ".xml")) else f"{name}.yaml")
     if not path.exists():
         from executive.tree_spec import did_you_mean
-        raise TreeError(f"{path}:1: no shipped tree '{name}'{did_you_mean(name, SHIPPED_TREES)}")
+        raise TreeLoadError(f"{path}:1: no shipped tree '{name}'{did_you_mean(name, SHIPPED_TREES)}")
     return path

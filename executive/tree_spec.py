@@ -15,7 +15,7 @@ from typing import Any, Callable, Iterable
 KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
 
 
-class TreeError(ValueError):
+class TreeLoadError(ValueError):
     """A tree file is not acceptable. The message reads ``file:line: Name (Type): what is wrong``
     (``file:line: Type: ...`` for a node without a name of its own).
 
@@ -41,13 +41,13 @@ class TreeError(ValueError):
         return lines[self.line - 1] if 0 < self.line <= len(lines) else ""
 
 
-class TreeErrors(TreeError):
+class TreeErrors(TreeLoadError):
     """Every problem found in one tree (``mission validate`` reports them all at once).
 
-    ``errors`` holds each as a TreeError, in file order; ``file``/``line`` are the first one's.
+    ``errors`` holds each as a TreeLoadError, in file order; ``file``/``line`` are the first one's.
     """
 
-    def __init__(self, errors: list[TreeError]) -> None:
+    def __init__(self, errors: list[TreeLoadError]) -> None:
         ordered = sorted(errors, key=lambda e: (e.file or "", e.line or 0))
         super().__init__("\n".join(str(e) for e in ordered))
         self.errors = ordered
@@ -107,8 +107,8 @@ class NodeSpec:
         """``Name (Type)`` for a named node, else ``Type``: how messages name it."""
         return f"{self.name} ({self.type})" if self.name and self.name != self.type else self.type
 
-    def error(self, message: str, where: Where | None = None) -> TreeError:
-        return TreeError(f"{where or self.where}: {self.label}: {message}")
+    def error(self, message: str, where: Where | None = None) -> TreeLoadError:
+        return TreeLoadError(f"{where or self.where}: {self.label}: {message}")
 
     def take_subtree_fields(self, id_key: str = "id") -> None:
         """For a SubTree: move ``id`` and ``_autoremap`` out of the ports."""
@@ -153,14 +153,14 @@ class TreeDoc:
 
     def include(self, src: str, where: Where | str, read: Callable[[str], TreeDoc]) -> None:
         """Merge the trees of the file ``src`` (relative to this document) read with ``read``;
-        a missing file or a tree id defined twice is a TreeError naming both places."""
+        a missing file or a tree id defined twice is a TreeLoadError naming both places."""
         target = src if os.path.isabs(src) else os.path.join(os.path.dirname(self.source), src)
         if not os.path.exists(target):
-            raise TreeError(f"{where}: include '{src}' not found (looked for {target})")
+            raise TreeLoadError(f"{where}: include '{src}' not found (looked for {target})")
         sub = read(target)
         for tid, spec in sub.trees.items():
             if tid in self.trees:
-                raise TreeError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
+                raise TreeLoadError(f"{sub.tree_where[tid]}: tree '{tid}' is also defined in "
                                 f"{self.tree_where[tid]}")
             self.trees[tid] = spec
             self.tree_where[tid] = sub.tree_where[tid]

@@ -20,7 +20,7 @@ from xml.sax.saxutils import quoteattr
 from behaviors.base import NavNode
 from behaviors.registry import category
 from executive import nav2_model
-from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, TreeErrors, Where
+from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeLoadError, TreeErrors, Where
 from navcore.safe_read import MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_xml, read_bytes
 from navcore.types import Pose2D
 
@@ -43,7 +43,7 @@ class _Elem:
 
 
 def _parse(file: str, text: str | None = None) -> _Elem:
-    data = (read_bytes(file, what="tree file", error=TreeError) if text is None
+    data = (read_bytes(file, what="tree file", error=TreeLoadError) if text is None
             else text.encode("utf-8"))
     parser = expat.ParserCreate()
     stack: list[_Elem] = []
@@ -52,7 +52,7 @@ def _parse(file: str, text: str | None = None) -> _Elem:
 
     def start(tag: str, attrs: dict[str, str]) -> None:
         if len(stack) >= MAX_XML_DEPTH:
-            raise TreeError(f"{file}:{parser.CurrentLineNumber}: elements nested more than "
+            raise TreeLoadError(f"{file}:{parser.CurrentLineNumber}: elements nested more than "
                             f"{MAX_XML_DEPTH} deep (limit)")
         el = _Elem(tag, dict(attrs), parser.CurrentLineNumber, comments=list(pending))
         pending.clear()
@@ -68,9 +68,9 @@ def _parse(file: str, text: str | None = None) -> _Elem:
     parser.StartElementHandler = start
     parser.CommentHandler = comment
     parser.EndElementHandler = end
-    parse_xml(parser, data, file, error=TreeError)
+    parse_xml(parser, data, file, error=TreeLoadError)
     if not root:
-        raise TreeError(f"{file}:1: not valid XML: no element")
+        raise TreeLoadError(f"{file}:1: not valid XML: no element")
     return root[0]
 
 
@@ -101,36 +101,36 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
     file = str(path)
     real = os.path.realpath(file)
     if real in _stack:
-        raise TreeError(f"{file}:1: include cycle: "
+        raise TreeLoadError(f"{file}:1: include cycle: "
                         + " -> ".join(os.path.basename(s) for s in (*_stack, real)))
     if len(_stack) >= MAX_INCLUDE_DEPTH:
-        raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
+        raise TreeLoadError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
                         f"(limit)")
     root = _parse(file, text)
     if root.tag != "root":
-        raise TreeError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")
+        raise TreeLoadError(f"{file}:{root.line}: the top element must be <root>, not <{root.tag}>")
     distro = root.attrs.get("nav2_distro")
     if distro is not None:
         try:
             distro = nav2_model.check_distro(distro)
         except ValueError as e:
-            raise TreeError(f"{file}:{root.line}: <root nav2_distro>: {e}") from None
+            raise TreeLoadError(f"{file}:{root.line}: <root nav2_distro>: {e}") from None
     doc = TreeDoc(main_tree=root.attrs.get("main_tree_to_execute"), trees={}, tree_where={},
                   source=file, from_text=True, nav2_distro=distro,
                   main_key="main_tree_to_execute", comments=root.comments)
     doc.btcpp_format = root.attrs.get("BTCPP_format")
-    errors: list[TreeError] = []  # reported together, as the builder's
+    errors: list[TreeLoadError] = []  # reported together, as the builder's
     for el in root.children:
         where = Where(file, el.line)
         if el.tag == "BehaviorTree":
             tid = el.attrs.get("ID")
             if not tid:
-                errors.append(TreeError(f"{where}: <BehaviorTree> needs an ID"))
+                errors.append(TreeLoadError(f"{where}: <BehaviorTree> needs an ID"))
             elif len(el.children) != 1:
-                errors.append(TreeError(f"{where}: <BehaviorTree ID='{tid}'> must hold exactly "
+                errors.append(TreeLoadError(f"{where}: <BehaviorTree ID='{tid}'> must hold exactly "
                                         f"one root node, has {len(el.children)}"))
             elif tid in doc.trees:
-                errors.append(TreeError(f"{where}: tree '{tid}' is also defined at "
+                errors.append(TreeLoadError(f"{where}: tree '{tid}' is also defined at "
                                         f"{doc.tree_where[tid]}"))
             else:
                 doc.trees[tid] = _node(el.children[0], file)
@@ -139,13 +139,13 @@ def read_xml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
         elif el.tag.lower() in ("include", "import"):
             src = el.attrs.get("path") or el.attrs.get("file") or el.attrs.get("src")
             if not src:
-                errors.append(TreeError(f"{where}: <{el.tag}> needs a 'path' attribute"))
+                errors.append(TreeLoadError(f"{where}: <{el.tag}> needs a 'path' attribute"))
                 continue
             doc.include(src, where, lambda target: read_xml(target, (*_stack, real)))
         elif el.tag == "TreeNodesModel":
             continue
         else:
-            errors.append(TreeError(f"{where}: unexpected <{el.tag}> under <root>"))
+            errors.append(TreeLoadError(f"{where}: unexpected <{el.tag}> under <root>"))
     if errors:
         raise TreeErrors(errors) if len(errors) > 1 else errors[0]
     return doc

@@ -20,7 +20,7 @@ from typing import Any
 
 import yaml
 
-from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeError, Where, did_you_mean
+from executive.tree_spec import NodeSpec, PortValue, TreeDoc, TreeLoadError, Where, did_you_mean
 from navcore.safe_read import MAX_INCLUDE_DEPTH, compose_yaml, node_value, read_text
 
 TOP_KEYS = ("main_tree", "nav2_distro", "trees", "include")
@@ -36,21 +36,21 @@ class _Reader:
 
     def value(self, node: yaml.Node) -> Any:
         """Plain Python value of a YAML node (SafeLoader types only)."""
-        return node_value(node, self.file, error=TreeError)
+        return node_value(node, self.file, error=TreeLoadError)
 
     def pairs(self, node: yaml.MappingNode, what: str) -> list[tuple[str, yaml.Node, Where]]:
         if not isinstance(node, yaml.MappingNode):
-            raise TreeError(f"{self.where(node)}: {what} must be a mapping")
+            raise TreeLoadError(f"{self.where(node)}: {what} must be a mapping")
         if node.tag != "tag:yaml.org,2002:map":
-            raise TreeError(f"{self.where(node)}: {what}: YAML tag '{node.tag}' is not allowed "
+            raise TreeLoadError(f"{self.where(node)}: {what}: YAML tag '{node.tag}' is not allowed "
                             f"(trees are plain data)")
         out, seen = [], set()
         for k, v in node.value:
             key = self.value(k)
             if not isinstance(key, str):
-                raise TreeError(f"{self.where(k)}: {what}: keys must be names, got {key!r}")
+                raise TreeLoadError(f"{self.where(k)}: {what}: keys must be names, got {key!r}")
             if key in seen:
-                raise TreeError(f"{self.where(k)}: {what}: '{key}' appears twice")
+                raise TreeLoadError(f"{self.where(k)}: {what}: '{key}' appears twice")
             seen.add(key)
             out.append((key, v, self.where(k)))
         return out
@@ -60,11 +60,11 @@ class _Reader:
         if isinstance(yn, yaml.ScalarNode):
             name = self.value(yn)
             if not isinstance(name, str) or not name:
-                raise TreeError(f"{self.where(yn)}: expected a node, got {name!r}")
+                raise TreeLoadError(f"{self.where(yn)}: expected a node, got {name!r}")
             return NodeSpec(type=name, where=self.where(yn))
         if not isinstance(yn, yaml.MappingNode) or len(yn.value) != 1:
             n = len(yn.value) if isinstance(yn, yaml.MappingNode) else 0
-            raise TreeError(f"{self.where(yn)}: a node is a one-key mapping 'Type: {{ports}}'"
+            raise TreeLoadError(f"{self.where(yn)}: a node is a one-key mapping 'Type: {{ports}}'"
                             + (f", this one has {n} keys (a '-' or indentation missing?)"
                                if n > 1 else ""))
         (type_name, body, where), = self.pairs(yn, "node")
@@ -116,15 +116,15 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
     real = os.path.realpath(file)
     if real in _stack:
         chain = " -> ".join(os.path.basename(s) for s in (*_stack, real))
-        raise TreeError(f"{file}:1: include cycle: {chain}")
+        raise TreeLoadError(f"{file}:1: include cycle: {chain}")
     if len(_stack) >= MAX_INCLUDE_DEPTH:
-        raise TreeError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
+        raise TreeLoadError(f"{file}:1: includes nested more than {MAX_INCLUDE_DEPTH} files deep "
                         f"(limit)")
     if text is None:
-        text = read_text(file, what="tree file", error=TreeError)
-    root = compose_yaml(text, file, error=TreeError)
+        text = read_text(file, what="tree file", error=TreeLoadError)
+    root = compose_yaml(text, file, error=TreeLoadError)
     if root is None:
-        raise TreeError(f"{file}:1: empty tree file")
+        raise TreeLoadError(f"{file}:1: empty tree file")
     r = _Reader(file)
     doc = TreeDoc(main_tree=None, trees={}, tree_where={}, source=file)
     includes: list[tuple[str, Where]] = []
@@ -136,7 +136,7 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
             try:
                 doc.nav2_distro = nav2_model.check_distro(str(r.value(vn)))
             except ValueError as e:
-                raise TreeError(f"{where}: nav2_distro: {e}") from None
+                raise TreeLoadError(f"{where}: nav2_distro: {e}") from None
         elif key == "include":
             items = vn.value if isinstance(vn, yaml.SequenceNode) else [vn]
             includes += [(str(r.value(i)), r.where(i)) for i in items]
@@ -145,7 +145,7 @@ def read_yaml(path: str | os.PathLike, _stack: tuple[str, ...] = (),
                 doc.trees[tid] = r.node(body)
                 doc.tree_where[tid] = twhere
         else:
-            raise TreeError(f"{where}: unknown top-level key '{key}'{did_you_mean(key, TOP_KEYS)}"
+            raise TreeLoadError(f"{where}: unknown top-level key '{key}'{did_you_mean(key, TOP_KEYS)}"
                             f"; expected {', '.join(TOP_KEYS)}")
     for inc, where in includes:
         doc.include(inc, where, lambda target: read_yaml(target, (*_stack, real)))

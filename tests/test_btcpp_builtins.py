@@ -14,7 +14,7 @@ from py_trees.common import Status
 from behaviors.base import make
 from behaviors.btcpp.scripting import ScriptError, compile_script, namespace_resolver
 from behaviors.testing import World
-from executive.tree_loader import TreeError, load_tree, load_xml, to_xml, to_yaml
+from executive.tree_loader import TreeLoadError, load_tree, load_xml, to_xml, to_yaml
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
 ST = py_trees.blackboard.Blackboard.storage
@@ -123,7 +123,7 @@ def test_script_errors_are_load_errors_with_file_and_line(tmp_path):
                 - Script: {code: "x := (1 + 2"}
                 - Wait: {wait_duration: 1.0, _skipIf: "x >"}
         """)
-    with pytest.raises(TreeError) as e:
+    with pytest.raises(TreeLoadError) as e:
         load_tree(p)
     lines = str(e.value).splitlines()
     assert lines[0].endswith("t.yaml:5: Script: code: column 12: expected ')', found the end")

@@ -9,7 +9,7 @@ import pytest
 from py_trees.common import Status
 
 from behaviors.testing import World, run_tree
-from executive.tree_loader import (SHIPPED_TREES, TreeError, load_any, load_tree, load_xml,
+from executive.tree_loader import (SHIPPED_TREES, TreeLoadError, load_any, load_tree, load_xml,
                                    shipped_tree, to_xml)
 from navcore.types import Pose2D
 
@@ -22,7 +22,7 @@ def write(tmp_path, name, text):
 
 def error_of(tmp_path, text, name="t.yaml"):
     p = write(tmp_path, name, text)
-    with pytest.raises(TreeError) as e:
+    with pytest.raises(TreeLoadError) as e:
         load_any(p, "/err")
     return str(e.value).replace(str(tmp_path) + "/", "")
 
@@ -267,7 +267,7 @@ def test_nav2_xml_loads_and_unsupported_nodes_are_named(tmp_path):
     p = write(tmp_path, "nav2.xml", NAV2_JAZZY.replace(
         '<Sequence>\n              <WouldAPlannerRecoveryHelp',
         '<Sequence>\n              <AssistedTeleop/>\n              <WouldAPlannerRecoveryHelp'))
-    with pytest.raises(TreeError) as e:
+    with pytest.raises(TreeLoadError) as e:
         load_xml(p)
     assert ("nav2.xml:11: AssistedTeleop: a Nav2 node (humble, jazzy, kilted, main) that navbt "
             "does not provide: needs a teleoperation input") in str(e.value)
@@ -292,10 +292,10 @@ def test_xml_errors_have_lines(tmp_path):
           </BehaviorTree>
         </root>
         """)
-    with pytest.raises(TreeError, match=r"bad.xml:4: Wait: port 'wait_duration' expects"):
+    with pytest.raises(TreeLoadError, match=r"bad.xml:4: Wait: port 'wait_duration' expects"):
         load_xml(p)
     p = write(tmp_path, "broken.xml", "<root>\n  <BehaviorTree ID='T'>\n</root>\n")
-    with pytest.raises(TreeError, match=r"broken.xml:3: not valid XML"):
+    with pytest.raises(TreeLoadError, match=r"broken.xml:3: not valid XML"):
         load_xml(p)
 
 
@@ -319,7 +319,7 @@ def test_py_trees_own_xml_parser_builds_our_nodes(tmp_path):
 
 
 def test_namespace_must_be_absolute():
-    with pytest.raises(TreeError, match="namespace must be an absolute name"):
+    with pytest.raises(TreeLoadError, match="namespace must be an absolute name"):
         load_tree(shipped_tree("nav2"), namespace="mission")
 
 
@@ -419,7 +419,7 @@ def test_xml_include_and_subtree_remapping(tmp_path):
 
 def test_tree_error_knows_file_line_and_excerpt(tmp_path):
     p = write(tmp_path, "t.yaml", "trees:\n  T:\n    Spin: {spin_dits: 1.0}\n")
-    with pytest.raises(TreeError) as e:
+    with pytest.raises(TreeLoadError) as e:
         load_tree(p)
     assert e.value.file == str(p) and e.value.line == 3
     assert e.value.excerpt() == "    Spin: {spin_dits: 1.0}"

@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from executive.tree_loader import TreeError, load_any, load_tree, load_xml, to_xml, to_yaml
+from executive.tree_loader import TreeLoadError, load_any, load_tree, load_xml, to_xml, to_yaml
 from executive.tree_spec import TreeErrors
 
 
@@ -81,7 +81,7 @@ def test_xml_messages_name_main_tree_to_execute(tmp_path):
           <BehaviorTree ID="U"><Wait/></BehaviorTree>
         </root>
         """)
-    with pytest.raises(TreeError, match="main_tree_to_execute 'Missing' is not defined"):
+    with pytest.raises(TreeLoadError, match="main_tree_to_execute 'Missing' is not defined"):
         load_xml(p)
     p = write(tmp_path, "u.xml", """
         <root BTCPP_format="4">
@@ -89,7 +89,7 @@ def test_xml_messages_name_main_tree_to_execute(tmp_path):
           <BehaviorTree ID="U"><Wait/></BehaviorTree>
         </root>
         """)
-    with pytest.raises(TreeError, match="no 'main_tree_to_execute' saying which one runs"):
+    with pytest.raises(TreeLoadError, match="no 'main_tree_to_execute' saying which one runs"):
         load_xml(p)
 
 
@@ -198,7 +198,7 @@ def test_distribution_from_file_attribute_option_and_default(tmp_path):
     assert load_tree(y).root.get_input("wrap_around") is False
     assert load_tree(y, nav2_distro="jazzy").root.get_input("wrap_around") is True
     bad = write(tmp_path, "bad.xml", body.format(attrs='BTCPP_format="4" nav2_distro="iron"'))
-    with pytest.raises(TreeError, match="unknown Nav2 distribution 'iron'"):
+    with pytest.raises(TreeLoadError, match="unknown Nav2 distribution 'iron'"):
         load_xml(bad)
 
 

@@ -26,7 +26,7 @@ def run(args: argparse.Namespace) -> int:
 
     from executive import tree_loader
     from executive.render import RenderError, render_tree
-    from executive.tree_spec import TreeError
+    from executive.tree_spec import TreeLoadError
     if not os.path.exists(args.tree):
         return fail("render", f"{args.tree}: no such tree file")
     collapse = ["*" if c == "all" else c for c in args.collapse]
@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
         data = render_tree(loaded.root, args.format, ports=args.ports, collapse=collapse,
                            title=loaded.main_tree) if args.format != "txt" else \
             render_tree(loaded.root, "txt")
-    except (TreeError, RenderError) as e:
+    except (TreeLoadError, RenderError) as e:
         return fail("render", str(e))
     except (OSError, UnicodeDecodeError) as e:
         return fail("render", f"{args.tree}: cannot read tree ({e})")

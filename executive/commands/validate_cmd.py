@@ -29,7 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from executive.loading import TreeLoadError, load_loaded
+    from executive.loading import TreeLoadError, load_tree_file
     bad = 0
     sources = config_sources(args)
     if sources.config or sources.has_ros():
@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
                 print(f"{path}: ok ({kind})")
             continue
         try:
-            tree = load_loaded(path, namespace="/validate", nav2_distro=args.nav2_distro)
+            tree = load_tree_file(path, namespace="/validate", nav2_distro=args.nav2_distro)
         except TreeLoadError as e:
             for line in str(e).splitlines():
                 print(f"mission validate: {line}", file=sys.stderr)
