@@ -27,6 +27,7 @@ from py_trees.common import Status
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
 
 from navcore.types import Pose2D
+from behaviors.errors import BehaviorError
 
 __all__ = ["NavNode", "Leaf", "Control", "DecoratorNode", "Recovery", "PortInformation", "Port",
            "port_problem", "Status",
@@ -81,7 +82,7 @@ def port_problem(info: PortInformation, value: Any) -> str | None:
     return None
 
 
-class ComponentError(RuntimeError):
+class ComponentError(BehaviorError, RuntimeError):
     """A node's ``setup`` did not receive a component it needs; the message names both."""
 
 

@@ -11,8 +11,8 @@ from typing import Any
 
 _API = ("load_tree", "parse_tree", "load_config", "load_map", "shipped_tree", "free_start",
         "open_mission", "Navigator", "Feedback", "MissionResult",
-        "World", "Pose2D", "RobotIO", "TreeLoadError", "ConfigError", "WiringError",
-        "ConfigSources")
+        "World", "Pose2D", "RobotIO", "ExecutiveError", "TreeLoadError", "ConfigError",
+        "WiringError", "ConfigSources")
 
 __all__ = list(_API)
 

@@ -30,7 +30,7 @@ from navcore.types import Pose2D
 from executive.config import (ConfigError, ConfigSources, RobotConfig, config_from_mapping,
                               load_config_sources)
 from executive.config import load_config as _load_config_file
-from executive.errors import WiringError
+from executive.errors import ExecutiveError, WiringError
 from executive.executive import Executive, new_namespace
 from executive.loading import TreeLoadError, load_tree_file, load_tree_text, shipped_tree
 from executive.mission import Mission, assemble, build_mission
@@ -43,8 +43,8 @@ from executive.world import World, free_start
 
 __all__ = ["load_tree", "parse_tree", "load_config", "load_map", "shipped_tree", "free_start",
            "open_mission", "Navigator", "Feedback", "MissionResult",
-           "World", "Pose2D", "RobotIO", "TreeLoadError", "ConfigError", "WiringError",
-           "ConfigSources"]
+           "World", "Pose2D", "RobotIO", "ExecutiveError", "TreeLoadError", "ConfigError",
+           "WiringError", "ConfigSources"]
 
 
 def _tree_path(path: str | os.PathLike) -> str:

@@ -26,12 +26,13 @@ import numpy as np
 from hw.logplayback import RecordedBase
 from navcore.clock import Clock
 from navcore.types import LaserScan, Pose2D, Twist
+from executive.errors import ExecutiveError
 
 FORMATS = ("ros1", "ros2", "ros2-mcap")
 _TF_MSG = "geometry_msgs/TransformStamped[] transforms\n"
 
 
-class BagError(ValueError):
+class BagError(ExecutiveError, ValueError):
     """A bag cannot be written or read; the message names the file and what is wrong."""
 
 

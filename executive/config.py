@@ -28,11 +28,12 @@ from executive.config_params import (BEHAVIOR_SERVER_NODES, MOVE_BASE_IN_TREE, M
                                      OWN_NAMESPACES, ROBOT_PARAMS)
 from executive.config_params import SAFETY_PARAMS  # noqa: F401 (executive.safety reads it here)
 from executive.config_costmaps import ERROR_PATH, check_costmap, deep_copy
+from executive.errors import ExecutiveError
 from executive.param_files import Findings, Note, ParamsError, read_yaml
 from executive.ros_params import LENIENCY
 
 
-class ConfigError(ValueError):
+class ConfigError(ExecutiveError, ValueError):
     """The robot config is unreadable or has bad values; the message lists every error, each
     naming file (and line when known), namespace and parameter. ``notes`` holds every finding
     (errors, warnings, ignored keys) of the load."""

@@ -37,6 +37,7 @@ import numpy as np
 from navcore.clock import Clock, WallClock
 from navcore.types import Pose2D, normalize_angle
 
+from executive.errors import ExecutiveError
 from executive.recorder import dumps
 
 TOPICS = ("/map", "/global_costmap", "/local_costmap", "/scan", "/pose", "/plan",
@@ -49,7 +50,7 @@ LOCAL_EVERY_S = 1.0        # simulated seconds between local costmaps
 MAX_PARTICLES = 500
 
 
-class FoxgloveUnavailable(ImportError):
+class FoxgloveUnavailable(ExecutiveError, ImportError):
     """foxglove-sdk is not installed."""
 
 

@@ -14,6 +14,7 @@ from typing import Any, Mapping
 import yaml
 
 from navcore.safe_read import compose_yaml, node_value, read_text
+from executive.errors import ExecutiveError
 
 Path_ = tuple[str, ...]
 
@@ -63,7 +64,7 @@ class Findings:
         return [n for n in self.notes if n.level == "error"]
 
 
-class ParamsError(ValueError):
+class ParamsError(ExecutiveError, ValueError):
     """A parameter or launch file cannot be read at all (the message names file and line)."""
 
 

@@ -25,6 +25,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import py_trees
 
+from executive.errors import ExecutiveError
 from executive.recorder import walk
 
 FORMATS = ("txt", "dot", "svg", "png")
@@ -70,7 +71,7 @@ class NodeStats:
     running_s: float = 0.0
 
 
-class RenderError(RuntimeError):
+class RenderError(ExecutiveError, RuntimeError):
     """No renderer available, or the renderer rejected the graph."""
 
 

@@ -24,6 +24,7 @@ from executive.ros_params import ParamTree, split_name
 from navcore.params import suggest
 from navcore.safe_read import (MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_xml, parse_yaml, read_bytes,
                                read_text)
+from executive.errors import ExecutiveError
 
 
 @dataclass
@@ -97,7 +98,7 @@ class Launched:
     amcl_ns: Path_ | None = None
 
 
-class _Skip(Exception):
+class _Skip(ExecutiveError):
     """An element that cannot be evaluated (the error is already recorded)."""
 
 

@@ -12,10 +12,12 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable
 
+from executive.errors import ExecutiveError
+
 KEY_REF = re.compile(r"^\{(@?[A-Za-z_][A-Za-z0-9_]*)\}$")
 
 
-class TreeLoadError(ValueError):
+class TreeLoadError(ExecutiveError, ValueError):
     """A tree file is not acceptable. The message reads ``file:line: Name (Type): what is wrong``
     (``file:line: Type: ...`` for a node without a name of its own).
 

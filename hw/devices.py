@@ -20,12 +20,13 @@ from typing import Any, Callable, Mapping
 
 from navcore.clock import Clock
 from navcore.types import Pose2D
+from hw.errors import HwError
 
 ROLES = {"base": ("kobuki", "arduino"), "laser": ("urg04lx", "lms200", "lms291"),
          "imu": ("razor", "vectornav")}
 
 
-class DeviceConfigError(ValueError):
+class DeviceConfigError(HwError, ValueError):
     """The devices section is wrong; the message names the entry and the problem."""
 
 

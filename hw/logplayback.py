@@ -23,9 +23,10 @@ from hw.interfaces import BaseEvents, BatteryState
 from navcore.clock import Clock
 from navcore.maps import OCCUPIED, UNKNOWN, OccupancyGrid
 from navcore.types import LaserScan, Odometry, Pose2D, Twist, normalize_angle
+from hw.errors import HwError
 
 
-class LogError(ValueError):
+class LogError(HwError, ValueError):
     """A CARMEN log is missing or malformed; the message names the file and line."""
 
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import yaml
 
+from navcore.errors import NavcoreError
 from navcore.safe_read import MAX_IMAGE_BYTES, load_yaml_keys, read_bytes
 from navcore.types import Pose2D
 
@@ -31,7 +32,7 @@ MAX_RESOLUTION = 1e3
 MAX_ORIGIN = 1e7        # |origin x, y| in m
 
 
-class MapError(ValueError):
+class MapError(NavcoreError, ValueError):
     """A map file or descriptor is missing or malformed; the message names the file and field."""
 
 

@@ -16,8 +16,10 @@ import weakref
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Mapping
 
+from navcore.errors import NavcoreError
 
-class ParameterError(ValueError):
+
+class ParameterError(NavcoreError, ValueError):
     """A parameter name, type or value is not acceptable; the message says which and why."""
 
 

@@ -28,6 +28,8 @@ from yaml.constructor import ConstructorError, SafeConstructor
 from yaml.events import (AliasEvent, CollectionEndEvent, CollectionStartEvent, DocumentStartEvent,
                          ScalarEvent)
 
+from navcore.errors import NavcoreError
+
 MAX_TEXT_BYTES = 4 * 1024 * 1024      # a tree, config, scenario or map descriptor
 MAX_IMAGE_BYTES = 128 * 1024 * 1024   # a map image (PGM/PNG)
 MAX_YAML_DEPTH = 100                  # nested mappings/sequences
@@ -44,7 +46,7 @@ _STR_TAG = "tag:yaml.org,2002:str"
 _CONTROL = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ufffe\uffff]")
 
 
-class ReadError(ValueError):
+class ReadError(NavcoreError, ValueError):
     """A user file cannot be read; used when the caller names no error type of its own."""
 
 
@@ -182,7 +184,7 @@ def compose_yaml(text: str, file: str, *, error: ErrorType = ReadError,
         raise error(f"{file}:1: nested too deeply") from None
 
 
-class _BadValue(ConstructorError):
+class _BadValue(NavcoreError, ConstructorError):
     """A scalar that parses as YAML but holds a value out of range or malformed for its tag."""
 
 

@@ -21,9 +21,10 @@ from typing import Any, Callable, Mapping, MutableMapping
 
 from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError, PlannerError,
                                  RecoveryError, SpinError, WaitError)
+from behaviors.errors import BehaviorError
 
 
-class ScriptError(ValueError):
+class ScriptError(BehaviorError, ValueError):
     """A script that does not parse, or fails when run; the message says where and what."""
 
 

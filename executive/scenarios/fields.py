@@ -7,11 +7,12 @@ from typing import Any, Mapping
 
 from navcore.params import suggest
 
+from executive.errors import ExecutiveError
 from executive.scenarios.model import Shape
 from executive.scenarios.source import Path_, Problems
 
 
-class _Bad(Exception):
+class _Bad(ExecutiveError):
     """A value already reported: stop building this field."""
 
 

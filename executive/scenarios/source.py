@@ -15,13 +15,14 @@ import yaml
 from yaml.constructor import SafeConstructor
 
 from navcore.safe_read import MAX_YAML_NODES, compose_yaml, node_value, read_text
+from executive.errors import ExecutiveError
 
 MAX_NODES = MAX_YAML_NODES   # values with aliases expanded: no alias bomb
 
 Path_ = tuple[Any, ...]       # a field path: ("expect", "recoveries", "at_most")
 
 
-class ScenarioError(ValueError):
+class ScenarioError(ExecutiveError, ValueError):
     """A scenario file is unreadable or malformed. ``errors`` lists every problem found, each as
     ``file:line: field: what``; the message is all of them, one a line."""
 

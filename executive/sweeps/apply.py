@@ -16,9 +16,10 @@ from typing import Any, Mapping
 import yaml
 
 from navcore.safe_read import load_yaml
+from executive.errors import ExecutiveError
 
 
-class ApplyError(ValueError):
+class ApplyError(ExecutiveError, ValueError):
     """A point names a parameter or port that does not exist, or a value it cannot take."""
 
 

@@ -22,6 +22,7 @@ from typing import Any, Mapping
 
 from navcore.params import suggest
 
+from executive.errors import ExecutiveError
 from executive.param_files import parse_yaml_lines
 
 TOP_KEYS = ("name", "description", "scenarios", "seeds", "trees", "config", "launch", "args",
@@ -31,7 +32,7 @@ SEARCH_KEYS = ("low", "high", "log", "step", "choices")
 MAX_RUNS = 1_000_000
 
 
-class SweepError(ValueError):
+class SweepError(ExecutiveError, ValueError):
     """A sweep file is unreadable or malformed; the message says ``file:line: what``."""
 
 

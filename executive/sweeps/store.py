@@ -20,6 +20,8 @@ import sqlite3
 import time
 from typing import Any, Iterable
 
+from executive.errors import ExecutiveError
+
 RECORD_COLUMNS = ("run_id", "scenario", "seed", "tree", "point", "outcome", "reason", "passed",
                   "solved", "sim_time_s", "recoveries", "n_recoveries", "contacts",
                   "path_length_m", "min_clearance_m", "turning_rad_per_m", "goals_reached",
@@ -42,7 +44,7 @@ CREATE TABLE IF NOT EXISTS sessions (session INTEGER PRIMARY KEY, started_at REA
 """
 
 
-class StoreError(RuntimeError):
+class StoreError(ExecutiveError, RuntimeError):
     """The results file cannot be opened or is not a navbt sweep store."""
 
 

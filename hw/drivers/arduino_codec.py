@@ -12,6 +12,7 @@ import re
 from dataclasses import dataclass
 
 from hw.drivers.lines import LineDecoder  # noqa: F401  (re-exported: the bridge's line framing)
+from hw.errors import HwError
 
 PID_RATE = 30.0                 # PID frames per second in the firmware
 AUTO_STOP_INTERVAL = 2.0        # s: the firmware stops the motors without an 'm' for this long
@@ -21,7 +22,7 @@ _INT = r"-?\d{1,10}"
 _ENCODERS = re.compile(rf"^({_INT}) ({_INT})$")
 
 
-class ArduinoError(ValueError):
+class ArduinoError(HwError, ValueError):
     """A reply does not have the shape its request expects; the message says what."""
 
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from navcore.types import Pose2D, Twist, normalize_angle
+from hw.errors import HwError
 
 HEADER = b"\xaa\x55"
 WHEEL_BASE = 0.230                            # m, "wheel bias"
@@ -33,7 +34,7 @@ COMMAND_LENGTHS = {BASE_CONTROL: 4, SOUND: 3, SOUND_SEQ: 1, REQUEST_EXTRA: 2, GP
                    SET_GAIN: 13, GET_GAIN: 1}
 
 
-class KobukiError(ValueError):
+class KobukiError(HwError, ValueError):
     """A Kobuki frame or sub-payload is malformed; the message says what."""
 
 

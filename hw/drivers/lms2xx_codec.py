@@ -15,6 +15,7 @@ import numba
 import numpy as np
 
 from navcore.types import LaserScan
+from hw.errors import HwError
 
 STX, ACK, NAK = 0x02, 0x06, 0x15
 TO_SENSOR, FROM_SENSOR = 0x00, 0x80
@@ -24,7 +25,7 @@ PASSWORD = b"SICK_LMS"
 MIRROR_HZ = 75.0
 
 
-class LmsError(ValueError):
+class LmsError(HwError, ValueError):
     """A telegram or scan is malformed; the message says what."""
 
 

@@ -13,6 +13,7 @@ import re
 from dataclasses import dataclass
 
 from navcore.types import Imu, normalize_angle
+from hw.errors import HwError
 
 ACCEL_FACTOR = 9.806 / 256.0          # raw accelerometer units -> m/s^2
 _NUM = r"-?\d{1,4}\.\d{1,4}"
@@ -20,7 +21,7 @@ _YPR = re.compile(rf"^#YPR=({_NUM}),({_NUM}),({_NUM})$")
 _YPRAG = re.compile(rf"^#YPRAG=({_NUM})" + rf",({_NUM})" * 8 + "$")
 
 
-class RazorError(ValueError):
+class RazorError(HwError, ValueError):
     """A Razor line is malformed or physically impossible; the message says which."""
 
 

@@ -15,13 +15,14 @@ import numba
 import numpy as np
 
 from navcore.types import LaserScan
+from hw.errors import HwError
 
 LF = 0x0A
 MAX_LINE = 64          # data characters per line before its sum
 TIME_WRAP = 1 << 24    # the sensor's millisecond timer is 24 bits wide
 
 
-class ScipError(ValueError):
+class ScipError(HwError, ValueError):
     """A SCIP byte sequence is malformed; the message says what and where."""
 
 

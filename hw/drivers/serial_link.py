@@ -16,6 +16,7 @@ import serial
 from serial.serialutil import Timeout
 
 from navcore.clock import Clock
+from hw.errors import HwError
 
 
 # A device may answer this late and still count as connected (s): reply deadlines in handshakes
@@ -26,7 +27,7 @@ DEVICE_LATENCY = 1.0
 REPLY_WAIT = DEVICE_LATENCY + 0.5
 
 
-class HandshakeError(RuntimeError):
+class HandshakeError(HwError, RuntimeError):
     """A device did not complete its start-up dialogue; the message says which step failed."""
 
 

@@ -13,11 +13,12 @@ from dataclasses import dataclass
 from functools import reduce
 
 from navcore.types import Imu, normalize_angle
+from hw.errors import HwError
 
 _HEX = "0123456789ABCDEF"
 
 
-class VnError(ValueError):
+class VnError(HwError, ValueError):
     """A VectorNav sentence is malformed; the message says what."""
 
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from navcore.clock import Clock
+from hw.errors import HwError
 
 
 class Emulator:
@@ -55,7 +56,7 @@ class Faults:
     host_drop: float = 0.0     # lose a host->device byte
 
 
-class Unplugged(OSError):
+class Unplugged(HwError, OSError):
     """The emulated device is not connected."""
 
 

@@ -17,12 +17,13 @@ from dataclasses import dataclass
 from typing import Any, Mapping
 
 from navcore.params import suggest
+from hw.errors import HwError
 
 FAULT_KINDS = ("laser_dropout", "laser_frozen", "odom_slip", "blocked_rotation", "stuck_wheel")
 _KEYS = ("kind", "start", "duration", "wheel", "slip")
 
 
-class FaultError(ValueError):
+class FaultError(HwError, ValueError):
     """A fault description is malformed; the message names the field."""
 
 

@@ -16,9 +16,10 @@ import numpy as np
 
 from navcore.maps import OccupancyGrid
 from navcore.raycast import clearance_field
+from hw.errors import HwError
 
 
-class WorldError(ValueError):
+class WorldError(HwError, ValueError):
     """An object or world description is malformed; the message names the object and field."""
 
 

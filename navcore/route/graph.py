@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from navcore.errors import NavcoreError
 from navcore.params import Param
 
 # nav2_route's route_server parameters that navbt reads (robot config namespace route_server).
@@ -29,7 +30,7 @@ ROUTE_SERVER_PARAMS = (
 )
 
 
-class RouteError(ValueError):
+class RouteError(NavcoreError, ValueError):
     """A route graph file that cannot be used; the message names the file and the feature."""
 
 
