@@ -142,3 +142,23 @@ def test_a_blocked_turn_is_no_valid_command_until_the_failure_tolerance_runs_out
     assert rig.bb.get("code") == ControllerError.PATIENCE_EXCEEDED
     assert rig.controller.calls == 0   # never handed a path it would have reversed along
     assert 0.5 <= rig.world.clock.now() <= 0.5 + 2 * rig.world.control_period
+
+
+def test_the_shim_ports_reach_the_turn_by_name():
+    rig = Rig(Pose2D(0.0, 0.0, 0.0))
+    rig.bb.set("path", straight_path(Pose2D(0.0, 0.0, math.pi), Pose2D(-3.0, 0.0, math.pi)))
+    node = rig.node(rotate_to_heading=True, angular_dist_threshold=0.3,
+                    forward_sampling_distance=0.7, rotate_to_heading_angular_vel=0.9,
+                    max_angular_accel=5.0, simulate_ahead_time=1.5)
+    assert node._shim_params() == ShimParams(angular_dist_threshold=0.3,
+                                             forward_sampling_distance=0.7,
+                                             rotate_to_heading_angular_vel=0.9,
+                                             max_angular_accel=5.0, simulate_ahead_time=1.5)
+    cmds = [rig.tick(node) for _ in range(150)]
+    first_drive = next(i for i, c in enumerate(cmds) if c.vx != 0.0)
+    turning = cmds[:first_drive]
+    # the first turn command is one period of max_angular_accel, the top rate is the turn's own
+    assert abs(turning[0].wz) == pytest.approx(5.0 * node.control_period)
+    assert max(abs(c.wz) for c in turning) == pytest.approx(0.9)
+    heading = rig.world.robot.trajectory[first_drive].theta
+    assert abs(angle_diff(heading, math.pi)) <= 0.3 + 1e-9

@@ -170,9 +170,12 @@ class FollowPath(Leaf):
         return RUNNING
 
     def _shim_params(self) -> ShimParams:
-        return ShimParams(*(self.get_input(k) for k in (
-            "angular_dist_threshold", "forward_sampling_distance",
-            "rotate_to_heading_angular_vel", "max_angular_accel", "simulate_ahead_time")))
+        get = self.get_input
+        return ShimParams(angular_dist_threshold=get("angular_dist_threshold"),
+                          forward_sampling_distance=get("forward_sampling_distance"),
+                          rotate_to_heading_angular_vel=get("rotate_to_heading_angular_vel"),
+                          max_angular_accel=get("max_angular_accel"),
+                          simulate_ahead_time=get("simulate_ahead_time"))
 
     def _reverses_blind(self, pose: Pose2D, cmd: Twist, now: float) -> bool:
         within = self.get_input("observed_within")
