@@ -116,10 +116,16 @@ def _in(i: int, which: Iterable[int] | Callable[[int], bool] | None) -> bool:
 
 
 class ScriptedPlanner:
-    """Straight-line planner that fails on chosen calls (1-based call numbers) or always."""
+    """Straight-line planner that fails on chosen calls (1-based call numbers) or always, with
+    ``reason`` (a failing ``PlanReason``)."""
 
     def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
-                 reason: str = "no_path", fail_always: bool = False, step: float = 0.05) -> None:
+                 reason: PlanReason = PlanReason.NO_PATH, fail_always: bool = False,
+                 step: float = 0.05) -> None:
+        if not isinstance(reason, PlanReason):
+            raise TypeError(f"ScriptedPlanner: reason must be a PlanReason, got {reason!r}")
+        if reason is PlanReason.NONE:
+            raise ValueError("ScriptedPlanner: reason must say why planning fails, got NONE")
         self.fail_calls = set(fail_calls) if isinstance(fail_calls, (list, tuple, set, range)) \
             else fail_calls
         self.reason = reason

@@ -13,6 +13,7 @@ from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingErr
                                  RecoveryError, SpinError)
 from behaviors.testing import (FakeCostmap, NodeRig, ScriptedController, ScriptedPlanner, World,
                                straight_path)
+from navcore.planners.result import PlanReason, PlanResult
 from navcore.types import Path, Pose2D, Twist
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
@@ -26,7 +27,7 @@ class Rig(NodeRig):
 
 
 def test_compute_path_to_pose_writes_path_or_error_code():
-    rig = Rig(World(planner=ScriptedPlanner(fail_calls=[2], reason="goal_occupied")))
+    rig = Rig(World(planner=ScriptedPlanner(fail_calls=[2], reason=PlanReason.GOAL_OCCUPIED)))
     rig.put("goal", Pose2D(2.0, 1.0, 0.0))
     node = rig.node("ComputePathToPose")
     node.tick_once()
@@ -40,6 +41,51 @@ def test_compute_path_to_pose_writes_path_or_error_code():
     bad = rig.node("ComputePathToPose", planner_id="Nope")
     bad.tick_once()
     assert bad.status == F and rig.get("compute_path_error_code") == PlannerError.INVALID_PLANNER
+
+
+class _TextPlanner:
+    """A planner from elsewhere: fails with ``reason`` as it gives it (text, not the enum)."""
+
+    def __init__(self, reason, ok=False, path=None):
+        self.result = PlanResult(ok, path, reason)
+
+    def make_plan(self, start, goal):
+        return self.result
+
+
+def test_plan_gives_the_plan_reason_enum():
+    from behaviors.actions.planning import PlanningAction
+    start, goal = Pose2D(), Pose2D(2.0, 0.0, 0.0)
+    path, reason = PlanningAction.plan(ScriptedPlanner(), start, goal)
+    assert reason is PlanReason.NONE and len(path) > 1
+    path, reason = PlanningAction.plan(
+        ScriptedPlanner(fail_always=True, reason=PlanReason.START_OCCUPIED), start, goal)
+    assert path is None and reason is PlanReason.START_OCCUPIED
+    assert PlanningAction.code(reason) is PlannerError.START_OCCUPIED
+    # a reason given as its text comes back as the enum member
+    path, reason = PlanningAction.plan(_TextPlanner("goal_occupied"), start, goal)
+    assert path is None and type(reason) is PlanReason and reason is PlanReason.GOAL_OCCUPIED
+    # a failure naming no reason, or an empty path, is NO_PATH
+    assert PlanningAction.plan(_TextPlanner(PlanReason.NONE), start, goal) == (
+        None, PlanReason.NO_PATH)
+    empty = Path(np.zeros((0, 3)))
+    assert PlanningAction.plan(_TextPlanner(PlanReason.NONE, True, empty), start, goal)[1] \
+        is PlanReason.NO_PATH
+    # text that is no PlanReason is the planner's bug, named, not "no path"
+    with pytest.raises(ValueError, match=r"_TextPlanner.make_plan: reason 'blocked' is not a "
+                                         r"PlanReason"):
+        PlanningAction.plan(_TextPlanner("blocked"), start, goal)
+
+
+def test_scripted_planner_takes_a_failing_plan_reason_only():
+    with pytest.raises(TypeError, match="reason must be a PlanReason, got 'goal_occupied'"):
+        ScriptedPlanner(reason="goal_occupied")
+    with pytest.raises(ValueError, match="got NONE"):
+        ScriptedPlanner(reason=PlanReason.NONE)
+    failing = ScriptedPlanner(fail_calls=[1], reason=PlanReason.GOAL_OUTSIDE_MAP)
+    first = failing.make_plan(Pose2D(), Pose2D(1.0, 0.0, 0.0))
+    assert (first.ok, first.path, first.reason) == (False, None, PlanReason.GOAL_OUTSIDE_MAP)
+    assert failing.make_plan(Pose2D(), Pose2D(1.0, 0.0, 0.0)).ok
 
 
 def test_compute_path_through_poses_joins_the_legs():

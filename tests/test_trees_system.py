@@ -16,6 +16,7 @@ from py_trees.visitors import VisitorBase
 
 from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, run_tree
 from executive.tree_loader import SHIPPED_TREES, load_tree, shipped_tree
+from navcore.planners.result import PlanReason
 from navcore.types import Pose2D
 
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
@@ -162,7 +163,7 @@ def test_goal_changes_while_a_recovery_runs(name):
 
 def test_nav2_picks_recoveries_by_error_code():
     # goal occupied: no recovery can help, so nav2 gives up after one planning attempt
-    w = World(planner=ScriptedPlanner(fail_always=True, reason="goal_occupied"))
+    w = World(planner=ScriptedPlanner(fail_always=True, reason=PlanReason.GOAL_OCCUPIED))
     tree, runs = start("nav2", w)
     status, _ = run_tree(tree, w)
     assert status == F and w.planner.calls == 1

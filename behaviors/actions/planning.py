@@ -33,18 +33,26 @@ class PlanningAction(Leaf):
         return self.fail(PlannerError.INVALID_PLANNER, f"no planner '{self.get_input('planner_id')}'")
 
     @staticmethod
-    def plan(planner: Any, start: Pose2D, goal: Pose2D) -> tuple[Path | None, str]:
-        """The planner's non-empty path, or None and the planner's reason."""
+    def plan(planner: Any, start: Pose2D, goal: Pose2D) -> tuple[Path | None, PlanReason]:
+        """The planner's non-empty path and ``PlanReason.NONE``, or None and the planner's
+        reason (``NO_PATH`` when a failure or an empty path names none). A reason given as its
+        text becomes the enum; text that is no ``PlanReason`` is the planner's bug: ValueError."""
         result = planner.make_plan(start, goal)
-        if not result.ok or result.path is None or len(result.path) == 0:
-            return None, result.reason or PlanReason.NO_PATH
-        return result.path, PlanReason.NONE
+        if result.ok and result.path is not None and len(result.path) > 0:
+            return result.path, PlanReason.NONE
+        try:
+            reason = PlanReason(result.reason)
+        except ValueError:
+            raise ValueError(f"{type(planner).__name__}.make_plan: reason {result.reason!r} is "
+                             f"not a PlanReason (one of "
+                             f"{', '.join(repr(r.value) for r in PlanReason)})") from None
+        return None, PlanReason.NO_PATH if reason is PlanReason.NONE else reason
 
     @staticmethod
-    def code(reason: str) -> PlannerError:
-        """The Nav2 code of a planner's reason (navcore.error_codes.PLAN_CODES); UNKNOWN for a
-        reason of a planner from elsewhere that the table does not know."""
-        return PLAN_CODES.get(reason, PlannerError.UNKNOWN)
+    def code(reason: PlanReason) -> PlannerError:
+        """The Nav2 code of a planner's reason (navcore.error_codes.PLAN_CODES, which maps
+        every PlanReason)."""
+        return PLAN_CODES[reason]
 
     def succeed(self, path: Path) -> Status:
         self.write("path", path)
