@@ -10,7 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from navcore.controllers import TrajectoryPlanner, make_controller
-from navcore.controllers.trajectory_rollout import footprint_cells, parse_y_vels
+from navcore.controllers.trajectory_rollout import (RW_GOAL, RW_OCCDIST, RW_PATH, RolloutWeights,
+                                                    footprint_cells, grid_bound, lower_bounds,
+                                                    parse_y_vels, rollout_cost)
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.costmap.footprint import footprint_cost
 from navcore.params import ParameterError
@@ -167,6 +169,38 @@ def test_meter_scoring_scales_the_biases_by_the_resolution():
     assert a.cmd == b.cmd
     k = int(np.argmin(np.where(a.scores >= 0, a.scores, np.inf)))
     assert b.scores[k] == pytest.approx(a.scores[k] * 0.05)
+
+
+def test_the_weights_are_read_by_name():
+    assert RolloutWeights(path=1.0, goal=2.0, occdist=3.0).array()[
+        [RW_PATH, RW_GOAL, RW_OCCDIST]].tolist() == [1.0, 2.0, 3.0]
+    # one straight trajectory over cells of cost 50, 3 cells from the path, 5 from the goal
+    costs = np.full((40, 40), 50, dtype=np.uint8)
+    path_grid = np.full((40, 40), 3, dtype=np.int32)
+    goal_grid = np.full((40, 40), 5, dtype=np.int32)
+    pts = np.array([[[1.0 + 0.05 * i, 2.0, 0.0] for i in range(10)]])
+    steps = np.array([10])
+    args = (costs, 0.0, 0.0, 0.1)
+    for named, expected in ((RolloutWeights(path=1.0, goal=0.0, occdist=0.0), 3.0),
+                            (RolloutWeights(path=0.0, goal=1.0, occdist=0.0), 5.0),
+                            (RolloutWeights(path=0.0, goal=0.0, occdist=1.0), 50.0),
+                            (RolloutWeights(path=0.5, goal=0.25, occdist=0.01), 3.25)):
+        w = named.array()
+        assert rollout_cost(pts, 0, 10, *args, RECT, path_grid, goal_grid, w, 0.0,
+                            np.inf) == pytest.approx(expected)
+        assert grid_bound(pts, 0, 10, *args, path_grid, goal_grid, w) == (
+            pytest.approx(expected), 50)
+        # the path-and-goal part alone: the bound less the obstacle term
+        base = lower_bounds(pts, steps, *args, path_grid, goal_grid, w)[2][0]
+        assert base == pytest.approx(3.0 * named.path + 5.0 * named.goal)
+
+
+def test_the_planner_s_weights_are_its_parameters_by_name():
+    params = dict(DIFF, path_distance_bias=0.6, goal_distance_bias=0.8, occdist_scale=0.01)
+    w = TrajectoryPlanner(empty_map(), RECT, params)._weights()
+    assert (w.path, w.goal, w.occdist) == (0.6, 0.8, 0.01)
+    m = TrajectoryPlanner(empty_map(), RECT, dict(params, meter_scoring=True))._weights()
+    assert (m.path, m.goal, m.occdist) == pytest.approx((0.6 * 0.05, 0.8 * 0.05, 0.01 * 0.05))
 
 
 def test_start_footprint_cells_are_its_inside():

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit
@@ -32,10 +32,30 @@ from navcore.controllers.map_grid import densify_plan, distance_grid, plan_cells
 from navcore.controllers.result import ControlResult, ControlStatus, describe_rejections
 from navcore.controllers.rollout import RAMPED_FROM_CURRENT, simulate
 
+
+class RolloutWeights(NamedTuple):
+    """The rollout critics' scales of one cycle, by name (ROS's pdist_scale, gdist_scale,
+    occdist_scale); ``array()`` is the float64 array the kernels take, in this order (the
+    ``RW_*`` indices below)."""
+
+    path: float
+    goal: float
+    occdist: float
+
+    def array(self) -> np.ndarray:
+        return np.array(self, dtype=np.float64)
+
+
+# positions in RolloutWeights.array(): compile-time constants in the kernels, defined beside
+# them because numba's cache does not see a change to another module's globals
+RW_PATH, RW_GOAL, RW_OCCDIST = range(3)
+
+
 @dataclass(frozen=True)
 class RolloutCycle:
-    """What one cycle's scoring reads: the costmap window, the critics' weights (``_weights``),
-    the distance grids from the local plan and from its end, and that end."""
+    """What one cycle's scoring reads: the costmap window, the critics' weights
+    (``RolloutWeights.array()``), the distance grids from the local plan and from its end, and
+    that end."""
 
     costs: np.ndarray
     ox: float
@@ -151,9 +171,9 @@ def rollout_cost(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: f
         gd = goal_grid[my, mx]
         if pd >= impossible or gd >= impossible:
             return -2.0
-        if base + weights[2] * occ > budget:
-            return base + weights[2] * occ
-    return weights[0] * pd + weights[1] * gd + weights[2] * occ
+        if base + weights[RW_OCCDIST] * occ > budget:
+            return base + weights[RW_OCCDIST] * occ
+    return weights[RW_PATH] * pd + weights[RW_GOAL] * gd + weights[RW_OCCDIST] * occ
 
 
 @njit(cache=True, nogil=True)
@@ -186,7 +206,7 @@ def grid_bound(pts: np.ndarray, k: int, n: int, costs: np.ndarray, origin_x: flo
         gd = goal_grid[my, mx]
         if pd >= impossible or gd >= impossible:
             return -2.0, cmax
-    return weights[0] * pd + weights[1] * gd + weights[2] * cmax, cmax
+    return weights[RW_PATH] * pd + weights[RW_GOAL] * gd + weights[RW_OCCDIST] * cmax, cmax
 
 
 @njit(cache=True, nogil=True)
@@ -206,7 +226,7 @@ def lower_bounds(pts: np.ndarray, steps: np.ndarray, costs: np.ndarray, origin_x
         scores[k] = b
         if b >= 0:
             bound[k] = b
-            base[k] = b - weights[2] * cmax
+            base[k] = b - weights[RW_OCCDIST] * cmax
     return scores, bound, base
 
 
@@ -330,12 +350,15 @@ class TrajectoryPlanner(LocalPlannerBase):
         return self._reached
 
     # --- one cycle ----------------------------------------------------------------------------
-    def _weights(self) -> np.ndarray:
-        """The critics' scales, in the kernels' order: path, goal, occdist (ROS's pdist_scale,
-        gdist_scale, occdist_scale; the first two per metre with meter_scoring)."""
+    def _weights(self) -> RolloutWeights:
+        """The critics' scales of this cycle: path_distance_bias, goal_distance_bias and
+        occdist_scale, all three multiplied by the costmap resolution with meter_scoring (as
+        TrajectoryPlannerROS does)."""
         p = self._p()
-        w = np.array([p.path_distance_bias, p.goal_distance_bias, p.occdist_scale])
-        return w * self.costmap.resolution if p.meter_scoring else w
+        scale = self.costmap.resolution if p.meter_scoring else 1.0
+        return RolloutWeights(path=p.path_distance_bias * scale,
+                              goal=p.goal_distance_bias * scale,
+                              occdist=p.occdist_scale * scale)
 
     def _compute(self, pose: Pose2D, velocity: Twist) -> ControlResult:
         p = self._p()
@@ -349,10 +372,11 @@ class TrajectoryPlanner(LocalPlannerBase):
         cells = plan_cells(costs, cm.origin_x, cm.origin_y, cm.resolution,
                            densify_plan(local, cm.resolution))
         inside = footprint_cells(cm, self.footprint, pose)
-        ctx = RolloutCycle(costs, cm.origin_x, cm.origin_y, cm.resolution, self._weights(),
-                           distance_grid(costs, cells, inside),
-                           distance_grid(costs, cells[-1:], inside),
-                           (float(local[-1, 0]), float(local[-1, 1])))
+        ctx = RolloutCycle(costs=costs, ox=cm.origin_x, oy=cm.origin_y, res=cm.resolution,
+                           weights=self._weights().array(),
+                           path=distance_grid(costs, cells, inside),
+                           goal=distance_grid(costs, cells[-1:], inside),
+                           final_goal=(float(local[-1, 0]), float(local[-1, 1])))
         gx, gy, gth = (float(v) for v in local[-1])
         if self._xy_latch or math.hypot(gx - pose.x, gy - pose.y) <= p.xy_goal_tolerance:
             if p.latch_xy_goal_tolerance:
