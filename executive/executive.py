@@ -67,6 +67,11 @@ class LiveRobotState:
     def events(self) -> BaseEvents:
         return self._events
 
+    def update(self, pose: Pose2D, velocity: Twist, battery: BatteryState | None,
+               events: BaseEvents) -> None:
+        """This cycle's robot state (the executive's estimate phase)."""
+        self._pose, self._velocity, self._battery, self._events = pose, velocity, battery, events
+
 
 @dataclass
 class Trace:
@@ -276,11 +281,9 @@ class Executive:
         if pose is None and self._last_odom is not None:
             pose = self._last_odom.pose
         pose = pose if pose is not None else self.robot.pose()
-        r = self.robot
-        r._pose = pose
-        r._velocity = self._last_odom.twist if self._last_odom is not None else Twist()
-        r._battery = self.io.base.battery()
-        r._events = self.io.base.events()
+        base = self.io.base
+        self.robot.update(pose, self._last_odom.twist if self._last_odom is not None else Twist(),
+                          base.battery(), base.events())
         return pose
 
     def _perceive(self, pose: Pose2D, now: float) -> None:
