@@ -270,6 +270,37 @@ class _Events:
                 params[ns].set(values)
 
 
+class _TickHook:
+    """What a scenario run does after each cycle (``Task.run``'s ``on_tick``): track the body
+    and the recoveries, apply the events now due, note the recoveries a goal change pre-empts,
+    stop at the wall-clock limit, then call the caller's ``on_tick``."""
+
+    def __init__(self, source: str, tracker: _Tracker, events: _Events, task: Any, wall: Any,
+                 limit_wall: float, on_tick: Callable[[Any], Any] | None) -> None:
+        self.source, self.tracker, self.events, self.task = source, tracker, events, task
+        self.wall, self.limit_wall, self.on_tick = wall, limit_wall, on_tick
+        self.t0 = task.t0
+        self.ticks = 0
+        # (recovery name, goal-change time, end of that recovery): end filled in after the run
+        self.preempts: list[tuple[str, float, float]] = []
+
+    def __call__(self, ex: Any) -> bool | None:
+        tracker, events, t0 = self.tracker, self.events, self.t0
+        now = ex.clock.now() - ex.period    # the time of the tick just run
+        tracker.tick(now)
+        tracker.now = ex.clock.now()       # the visitor's time for the next tick
+        self.ticks += 1
+        n = len(events.goal_changes)
+        events.apply_due(now - t0, self.task.index, tracker.records)
+        if len(events.goal_changes) > n:
+            for r in tracker.open_recoveries():
+                self.preempts.append((r["name"], now - t0, -1.0))
+        if self.ticks % 25 == 0 and self.wall.now() > self.limit_wall:
+            raise ScenarioError(f"{self.source}: wall-clock limit {self.limit_wall:g} s "
+                                f"reached at t={now - t0:.1f} s simulated")
+        return self.on_tick(ex) if self.on_tick is not None else None
+
+
 def clear_shape(cm: Any, shape: Shape) -> None:
     """Free a shape's cells in every clearable layer of a costmap (a phantom moved away)."""
     from navcore.costmap.cost_values import FREE_SPACE
@@ -354,24 +385,8 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
             t0 = task.t0
             events.t0 = t0
             tracker.now = t0
-            preempts: list[tuple[str, float, float]] = []
-            ticks = [0]
-
-            def each_tick(ex: Any) -> bool | None:
-                now = ex.clock.now() - ex.period    # the time of the tick just run
-                tracker.tick(now)
-                tracker.now = ex.clock.now()       # the visitor's time for the next tick
-                ticks[0] += 1
-                n = len(events.goal_changes)
-                events.apply_due(now - t0, task.index, tracker.records)
-                if len(events.goal_changes) > n:
-                    for r in tracker.open_recoveries():
-                        preempts.append((r["name"], now - t0, -1.0))
-                if ticks[0] % 25 == 0 and wall.now() > limit_wall:
-                    raise ScenarioError(f"{sc.source}: wall-clock limit {limit_wall:g} s "
-                                        f"reached at t={now - t0:.1f} s simulated")
-                return on_tick(ex) if on_tick is not None else None
-            result = task.run(each_tick)
+            hook = _TickHook(sc.source, tracker, events, task, wall, limit_wall, on_tick)
+            result = task.run(hook)
             outcome, index = result.outcome, task.index
             reason, detail = "", ""
             if outcome == "failed":
@@ -395,6 +410,7 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
                 r["t"] = round(r["t"] - t0, 3)
                 r["end"] = round((r["end"] if r["end"] is not None else sim_time + t0) - t0, 3)
             ends = {}
+            preempts = hook.preempts
             for name, tg, _ in preempts:
                 rec = next((r for r in tracker.records if r["name"] == name and r["t"] <= tg
                             and r["end"] >= tg), None)

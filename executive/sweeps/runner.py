@@ -57,6 +57,19 @@ def _scenario(path: str) -> Any:
     return _scenarios[path]
 
 
+class PoseLog:
+    """The body's true pose after each cycle of a run (``run_scenario``'s ``on_tick``), for the
+    clearance and turning metrics."""
+
+    def __init__(self) -> None:
+        self.poses: list[tuple[float, float, float]] = []
+
+    def on_tick(self, ex: Any) -> None:
+        p = ex.io.true_pose()
+        if p is not None:
+            self.poses.append((p.x, p.y, p.theta))
+
+
 def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
     """Run one task; returns (record, timing). Never raises."""
     global _tree_dir
@@ -74,16 +87,10 @@ def run_task(task: RunTask) -> tuple[dict[str, Any], dict[str, Any]]:
         sub = os.path.join(_tree_dir, task.run_id)
         os.makedirs(sub, exist_ok=True)
         tree = tree_with_ports(task.tree, point, sub)
-        poses: list[tuple[float, float, float]] = []
-
-        def on_tick(ex: Any) -> None:
-            p = ex.io.true_pose()
-            if p is not None:
-                poses.append((p.x, p.y, p.theta))
-
-        r = run_scenario(scenario, tree, config_path=task.config, on_tick=on_tick)
-        clearance = min_clearance(poses, scenario.grid, scenario.objects)
-        turning = turning_per_metre(poses)
+        log = PoseLog()
+        r = run_scenario(scenario, tree, config_path=task.config, on_tick=log.on_tick)
+        clearance = min_clearance(log.poses, scenario.grid, scenario.objects)
+        turning = turning_per_metre(log.poses)
         record.update(outcome=r.outcome, reason=r.reason or None, passed=int(r.passed),
                       solved=int(r.solved), sim_time_s=round(r.sim_time, 6),
                       recoveries=r.recovery_types, n_recoveries=len(r.recoveries),

@@ -52,21 +52,28 @@ class Progress:
             self.out.write("\n")
 
 
+class _ResultWriter:
+    """The executor's ``on_result``: each result into the store as it arrives, the error
+    records counted, the progress line stepped."""
+
+    def __init__(self, store: ResultStore, progress: Progress | None) -> None:
+        self.store, self.progress = store, progress
+        self.errors = 0
+
+    def __call__(self, task: RunTask, record: dict[str, Any], timing: dict[str, Any]) -> None:
+        self.store.add(record, timing)
+        self.errors += record["outcome"] == "error"
+        if self.progress is not None:
+            self.progress.step(f"{record['scenario']} {record['outcome']}")
+
+
 def run_tasks(tasks: list[RunTask], store: ResultStore, executor: Executor,
               progress: Progress | None = None) -> int:
     """Run ``tasks`` on ``executor``, writing each result to ``store`` as it arrives; returns
     the number of error records."""
-    errors = 0
-
-    def done(task: RunTask, record: dict[str, Any], timing: dict[str, Any]) -> None:
-        nonlocal errors
-        store.add(record, timing)
-        errors += record["outcome"] == "error"
-        if progress is not None:
-            progress.step(f"{record['scenario']} {record['outcome']}")
-
-    executor.run(tasks, done)
-    return errors
+    writer = _ResultWriter(store, progress)
+    executor.run(tasks, writer)
+    return writer.errors
 
 
 def run_sweep(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = None,
