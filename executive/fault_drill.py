@@ -4,8 +4,8 @@ tick whose command is zero (docs/robustness.md). The braking after that is physi
 counted. ``bench/bench_robustness.py`` runs every drill; tests run some.
 
 The faults of the simulator (laser drop-out, frozen laser) are its own scripted faults; the
-others wrap the robot I/O or the perception of a built mission, the way a broken driver or a
-broken component would behave.
+others wrap the robot I/O or the perception a mission is assembled with, the way a broken
+driver or a broken component would behave.
 """
 
 from __future__ import annotations
@@ -17,6 +17,9 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
+from navcore.clock import SimClock, WallClock
 from navcore.types import LaserScan, Odometry, Pose2D, Twist
 
 FAULTS = ("laser_dropout", "odometry_stops", "odometry_frozen", "laser_frozen",
@@ -154,8 +157,12 @@ def drill(kind: str, start: float = 4.0, seed: int = 0, stall: float = 1.5,
     """
     if kind not in FAULTS:
         raise ValueError(f"drill: unknown fault {kind!r}; one of {', '.join(FAULTS)}")
-    from executive.mission import build_mission
+    from executive.executive import new_namespace
+    from executive.loading import load_tree_file
+    from executive.mission import assemble, perception_for
+    from executive.robot_io import open_robot_io
     from executive.scenario import scenario_config, scenario_from_mapping
+    from executive.stack import Stack
     from executive.world import World
     sim_fault = {"laser_dropout": "laser_dropout", "laser_frozen": "laser_frozen"}.get(kind)
     doc = {"name": f"drill_{kind}", "map": {"resolution": 0.1, "ascii": _CORRIDOR},
@@ -163,15 +170,26 @@ def drill(kind: str, start: float = 4.0, seed: int = 0, stall: float = 1.5,
            "faults": [{"kind": sim_fault, "start": start}] if sim_fault else []}
     sc = scenario_from_mapping(doc, f"<drill {kind}>")
     config = scenario_config(sc, None)
+    world = World(sc.objects, sc.moving, sc.phantoms, sc.faults)
+    # build_mission's steps on the simulator, with the faulty I/O and perception put in place
+    clock = WallClock() if kind == "loop_stall" else SimClock()
+    rng = np.random.default_rng(seed)
+    namespace = new_namespace()
     with tempfile.TemporaryDirectory() as tmp:
-        mission = build_mission(_tree_file(kind, tmp), config, sc.grid, sc.start,
-                                world=World(sc.objects, sc.moving, sc.phantoms, sc.faults),
-                                seed=seed, realtime=kind == "loop_stall")
+        tree_path = _tree_file(kind, tmp)
+        tree = load_tree_file(tree_path, namespace=namespace,
+                              port_defaults=config.port_defaults())
+    stack = Stack.from_config(config, sc.grid, clock)
+    sim_io, sim = open_robot_io("sim", config, sc.grid, sc.start, world, clock, rng, namespace)
+    f = _Faulty(kind, start, clock)
+    io = _IO(sim_io, f)
+    localise = "amcl" in config.namespaces
+    perception = _Perception(perception_for(stack, sc.grid, sc.start, rng, io, world,
+                                            localise=localise), f, stall)
+    mission = assemble(tree, tree_path, config, sc.grid, sc.start, stack, io, clock, rng,
+                       localise=localise, sim=sim, world=world, namespace=namespace,
+                       perception=perception)
     ex = mission.executive
-    f = _Faulty(kind, start, ex.clock)
-    io = _IO(ex.io, f)
-    ex.io = io
-    perception = ex.perception = _Perception(ex.perception, f, stall)
     ex.set_goal(sc.goals[0])
     period = ex.period
     ticks: list[tuple[float, Twist, list[str]]] = []

@@ -33,8 +33,8 @@ from executive.safety import SafetyGate
 from executive.stack import Stack
 from executive.world import World, free_start
 
-__all__ = ["Mission", "WiringError", "World", "build_mission", "assemble", "run_mission",
-           "free_start",
+__all__ = ["Mission", "WiringError", "World", "build_mission", "assemble", "perception_for",
+           "run_mission", "free_start",
            "progress_callback", "paint_phantom", "hardware_mode", "SimIO", "HardwareIO",
            "EmulatedIO"]
 
@@ -88,18 +88,15 @@ def assemble(tree: LoadedTree | Any, tree_source: str, config: RobotConfig, grid
              rng: np.random.Generator, *, localise: bool, sim: Any = None,
              world: World | None = None, recorder: Recorder | None = None,
              meta: dict[str, Any] | None = None, require_laser: bool = True,
-             namespace: str | None = None) -> Mission:
+             namespace: str | None = None, perception: Perception | None = None) -> Mission:
     """Put a loaded tree, a stack and a robot I/O together in an Executive. ``localise``: run
-    AMCL (from the ``amcl`` namespace) rather than take the robot I/O's ground truth."""
+    AMCL (from the ``amcl`` namespace) rather than take the robot I/O's ground truth.
+    ``perception``: the estimate and perceive phases, by default ``perception_for`` this stack;
+    give one only when it wraps what ``perception_for`` built (a fault drill does)."""
     world = world or World()
-    mount = laser_mount(io)
-    localisation = None
-    if localise:
-        stack.add_localizer(grid, start, rng)
-        localisation = Localisation(stack.localizer, mount)
+    if perception is None:
+        perception = perception_for(stack, grid, start, rng, io, world, localise=localise)
     components = stack.components()
-    perception = Perception({"local": stack.local_costmap, "global": stack.global_costmap},
-                            mount, localisation, world.phantoms, stack.observed_space)
     namespace = namespace or getattr(tree, "namespace", None)
     try:
         ex = Executive(tree, io, clock, config.control_period(), components,
@@ -113,6 +110,21 @@ def assemble(tree: LoadedTree | Any, tree_source: str, config: RobotConfig, grid
             io.close()       # drivers opened for a mission that will not run
         raise WiringError(f"{tree_source}: tree setup failed: {e}") from None
     return Mission(ex, grid, config, sim, components, world, tree_source, stack)
+
+
+def perception_for(stack: Stack, grid: OccupancyGrid, start: Pose2D | None,
+                   rng: np.random.Generator, io: RobotIO, world: World, *,
+                   localise: bool) -> Perception:
+    """The stack's costmaps (local, then global) fed from ``io``'s laser, the world's phantoms,
+    and with ``localise`` AMCL (added to the stack here, after the robot I/O drew from
+    ``rng``)."""
+    mount = laser_mount(io)
+    localisation = None
+    if localise:
+        stack.add_localizer(grid, start, rng)
+        localisation = Localisation(stack.localizer, mount)
+    return Perception({"local": stack.local_costmap, "global": stack.global_costmap},
+                      mount, localisation, world.phantoms, stack.observed_space)
 
 
 def _where(tree_source: str) -> str:
