@@ -26,21 +26,20 @@ class WasEntryUpdated(Scripted, Leaf):
         self._seen: Any = _NEVER
 
     def update(self) -> Status:
-        return SUCCESS if entry_changed(self, "entry") else FAILURE
+        changed, self._seen = entry_changed(self.bound_key("entry"), self._seen)
+        return SUCCESS if changed else FAILURE
 
 
 _NEVER = object()
 
 
-def entry_changed(node: Any, port: str) -> bool:
-    """Has the entry behind ``port`` changed since ``node`` last looked (first look: it has,
-    if it exists)? Remembers the value seen."""
-    key = node.bound_key(port)
+def entry_changed(key: str | None, before: Any) -> tuple[bool, Any]:
+    """Has the blackboard entry ``key`` changed since a node saw ``before`` there (first look,
+    ``_NEVER``: it has, if it exists)? Returns that and the value to remember."""
     value = STORAGE.get(key, _NEVER) if key is not None else _NEVER
-    before, node._seen = node._seen, value
     if value is _NEVER or value is None:
-        return False
-    return before is not value and (before is _NEVER or _differs(before, value))
+        return False, value
+    return before is not value and (before is _NEVER or _differs(before, value)), value
 
 
 def _differs(a: Any, b: Any) -> bool:
@@ -61,8 +60,10 @@ class _EntryUpdated(Scripted, DecoratorNode):
 
     def tick_children(self) -> Ticking:
         child = self.decorated
-        if child.status is not RUNNING and not entry_changed(self, "entry"):
-            return skipped_status(self) if self.NOT_UPDATED == "SKIPPED" else RUNNING
+        if child.status is not RUNNING:
+            changed, self._seen = entry_changed(self.bound_key("entry"), self._seen)
+            if not changed:
+                return skipped_status(self) if self.NOT_UPDATED == "SKIPPED" else RUNNING
         yield from child.tick()
         return child.status
 
