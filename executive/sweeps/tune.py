@@ -44,6 +44,34 @@ def _suggest(trial: Any, d: SearchDim) -> Any:
     return trial.suggest_float(d.key, d.low, d.high, step=d.step, log=d.log)
 
 
+class _Objective:
+    """One Optuna trial: the suggested point (over ``fixed``) run over every base task on
+    ``executor`` into ``store``, scored by ``score``, contacts set as its constraint."""
+
+    def __init__(self, spec: SweepSpec, fixed: dict[str, Any], base_tasks: list[RunTask],
+                 limit: float, store: ResultStore, executor: Executor, out: TextIO) -> None:
+        self.spec, self.fixed, self.base_tasks, self.limit = spec, fixed, base_tasks, limit
+        self.store, self.executor, self.out = store, executor, out
+
+    def __call__(self, trial: Any) -> float:
+        store = self.store
+        point = dict(self.fixed)
+        point.update({d.key: _suggest(trial, d) for d in self.spec.search})
+        tasks = [RunTask(t.scenario, t.seed, t.tree, tuple(sorted(point.items())), t.config,
+                         t.time_limit) for t in self.base_tasks]
+        finished = store.finished_ids()
+        run_tasks([t for t in tasks if t.run_id not in finished], store, self.executor)
+        ids = {t.run_id for t in tasks}
+        records = [r for r in store.records() if r["run_id"] in ids]
+        value, contacts = score(records, self.limit)
+        trial.set_user_attr("contacts", contacts)
+        trial.set_constraint("contacts", float(contacts))   # feasible when <= 0
+        trial.set_user_attr("success_rate", sum(r["solved"] for r in records) / len(records))
+        self.out.write(f"  trial {trial.number}: {point} -> success "
+                       f"{100 * trial.user_attrs['success_rate']:.0f}%, contacts {contacts}\n")
+        return value
+
+
 def tune(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = None,
          trials: int | None = None, out: TextIO = sys.stdout) -> dict[str, Any]:
     """Run an Optuna study over ``spec.search``; returns the best point and its score."""
@@ -70,25 +98,9 @@ def tune(spec: SweepSpec, out_dir: str, jobs: int = 1, dask: str | None = None,
     out.write(f"tune {spec.name}: {done_trials} trials done, {todo} to run, "
               f"{len(base_tasks)} runs per trial\n")
 
-    def objective(trial: Any) -> float:
-        point = dict(fixed)
-        point.update({d.key: _suggest(trial, d) for d in spec.search})
-        tasks = [RunTask(t.scenario, t.seed, t.tree, tuple(sorted(point.items())), t.config,
-                         t.time_limit) for t in base_tasks]
-        finished = store.finished_ids()
-        run_tasks([t for t in tasks if t.run_id not in finished], store, executor)
-        ids = {t.run_id for t in tasks}
-        records = [r for r in store.records() if r["run_id"] in ids]
-        value, contacts = score(records, limit)
-        trial.set_user_attr("contacts", contacts)
-        trial.set_constraint("contacts", float(contacts))   # feasible when <= 0
-        trial.set_user_attr("success_rate", sum(r["solved"] for r in records) / len(records))
-        out.write(f"  trial {trial.number}: {point} -> success "
-                  f"{100 * trial.user_attrs['success_rate']:.0f}%, contacts {contacts}\n")
-        return value
-
     with Executor(jobs, dask) as executor:   # one set of warm workers for every trial
-        study.optimize(objective, n_trials=todo)
+        study.optimize(_Objective(spec, fixed, base_tasks, limit, store, executor, out),
+                       n_trials=todo)
     feasible = [t for t in study.trials if t.state.is_finished() and t.value is not None
                 and t.user_attrs.get("contacts", 1) == 0]
     store.close()
