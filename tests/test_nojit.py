@@ -36,6 +36,9 @@ SELECTED = [
     "tests/test_costmap_inflation.py::test_inflation_agrees_with_brute_force_on_random_small_maps",
     "tests/test_costmap_inflation.py::test_exact_distance_transform_matches_brute_force",
     "tests/test_costmap_inflation.py::test_inflated_costs_equal_the_formula_around_one_obstacle",
+    # observed-space memory
+    "tests/test_observed_space.py::test_stamp_scan_matches_the_plain_reference",
+    "tests/test_observed_space.py::test_free_body_matches_the_numpy_reference",
     # controllers
     "tests/test_controllers_rollout.py::test_start_footprint_cells_agree_with_the_numpy_even_odd_"
     "test_on_random_poses",

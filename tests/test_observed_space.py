@@ -15,7 +15,9 @@ from py_trees.common import Access, Status
 from behaviors.base import make
 from behaviors.testing import FakeCostmap, World
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
-from navcore.costmap.observed_space import (NEVER, ObservedSpace, first_unobserved, stamp_scan)
+from navcore.costmap.costmap2d import _fill_convex_cells
+from navcore.costmap.observed_space import (NEVER, ObservedSpace, first_unobserved, free_body,
+                                            stamp_scan)
 from navcore.error_codes import BackUpError, DriveOnHeadingError, RecoveryError, SpinError
 from navcore.raycast import cast_rays
 from navcore.types import LaserScan, Pose2D, Twist
@@ -125,6 +127,47 @@ def test_stamp_scan_matches_the_plain_reference():
     assert 0 < np.sum(np.isfinite(occ)) < np.sum(np.isfinite(free))
     # a laser off the grid stamps nothing
     assert stamp_scan(free, occ, 0.0, 0.0, RES, -1.0, 1.0, angles, ranges, 0.05, 2.5, 5.0) == 0
+
+
+def ref_free_body(free, occupied, fp, pose, ox, oy, now):
+    """The body stamp with numpy: vertex cells, refused when one is off the grid, convex fill."""
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    xs = pose.x + c * fp[:, 0] - s * fp[:, 1]
+    ys = pose.y + s * fp[:, 0] + c * fp[:, 1]
+    with np.errstate(invalid="ignore"):  # a NaN pose: a cell far off the grid
+        cells = np.column_stack([np.floor((xs - ox) / RES),
+                                 np.floor((ys - oy) / RES)]).astype(np.int64)
+    h, w = free.shape
+    if np.any(cells < 0) or np.any(cells[:, 0] >= w) or np.any(cells[:, 1] >= h):
+        return False
+    _fill_convex_cells(free, cells, float(now))
+    _fill_convex_cells(occupied, cells, NEVER)
+    return True
+
+
+def test_free_body_matches_the_numpy_reference():
+    rng = np.random.default_rng(11)
+    shape = (30, 40)
+    outcomes = set()
+    for fp in (np.array(RECT), np.array(ROUND)):
+        for k in range(60):
+            # inside the window, across its edges, or not a pose at all
+            pose = Pose2D(rng.uniform(-0.3, 2.3), rng.uniform(-0.3, 1.8),
+                          rng.uniform(-math.pi, math.pi))
+            if k == 0:
+                pose = Pose2D(math.nan, 1.0, 0.0)
+            ox, oy = rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1)
+            free = rng.uniform(0.0, 3.0, shape)
+            occ = np.where(rng.random(shape) < 0.3, rng.uniform(0.0, 3.0, shape), NEVER)
+            ref_f, ref_o = free.copy(), occ.copy()
+            want = ref_free_body(ref_f, ref_o, fp, pose, ox, oy, 4.0)
+            got = free_body(free, occ, fp, pose.x, pose.y, math.cos(pose.theta),
+                            math.sin(pose.theta), ox, oy, RES, 4.0)
+            assert got == want, (pose, ox, oy)
+            np.testing.assert_array_equal(free, ref_f)
+            np.testing.assert_array_equal(occ, ref_o)
+            outcomes.add(got)
+    assert outcomes == {True, False}
 
 
 def test_first_unobserved_matches_the_sampled_reference():

@@ -76,6 +76,28 @@ def stamp_scan(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y
     return n
 
 
+@njit(cache=True, nogil=True)
+def free_body(free: np.ndarray, occupied: np.ndarray, footprint: np.ndarray, x: float, y: float,
+              c: float, s: float, origin_x: float, origin_y: float, resolution: float,
+              now: float) -> bool:
+    """Stamp ``now`` free and forget the occupied stamp on the cells under ``footprint`` placed at
+    (x, y) with cos/sin (c, s): the convex fill of its vertex cells (costmap_2d's footprint
+    clearing). False, touching nothing, when a vertex cell is off the grid."""
+    h, w = free.shape
+    n = footprint.shape[0]
+    cells = np.empty((n, 2), dtype=np.int64)
+    for k in range(n):
+        fi = np.floor((x + c * footprint[k, 0] - s * footprint[k, 1] - origin_x) / resolution)
+        fj = np.floor((y + s * footprint[k, 0] + c * footprint[k, 1] - origin_y) / resolution)
+        if not (0.0 <= fi < w and 0.0 <= fj < h):  # NaN too
+            return False
+        cells[k, 0] = int(fi)
+        cells[k, 1] = int(fj)
+    _fill_convex_cells(free, cells, now)
+    _fill_convex_cells(occupied, cells, NEVER)
+    return True
+
+
 @njit(cache=True, nogil=True, inline="always")
 def _point_in_polygon(footprint: np.ndarray, x: float, y: float, c: float, s: float,
                       origin_x: float, origin_y: float, inv: float, u: float, v: float) -> bool:
@@ -343,19 +365,9 @@ class ObservedSpace:
         """Free the cells under the clearing footprint at ``pose`` (costmap_2d's footprint
         clearing: the convex fill of its vertex cells): stamped free, occupied forgotten. False,
         touching nothing, when a vertex is off the window."""
-        c, s = math.cos(pose.theta), math.sin(pose.theta)
-        fp = self.clearing_footprint
-        xs = pose.x + c * fp[:, 0] - s * fp[:, 1]
-        ys = pose.y + s * fp[:, 0] + c * fp[:, 1]
-        cells = np.column_stack([np.floor((xs - self.origin_x) / self.resolution),
-                                 np.floor((ys - self.origin_y) / self.resolution)]
-                                ).astype(np.int64)
-        if np.any(cells < 0) or np.any(cells[:, 0] >= self.size_x) \
-                or np.any(cells[:, 1] >= self.size_y):
-            return False
-        _fill_convex_cells(self.free, cells, float(now))
-        _fill_convex_cells(self.occupied, cells, NEVER)
-        return True
+        return free_body(self.free, self.occupied, self.clearing_footprint, pose.x, pose.y,
+                         math.cos(pose.theta), math.sin(pose.theta), self.origin_x,
+                         self.origin_y, self.resolution, float(now))
 
     def update(self, pose: Pose2D, scan: LaserScan | None, laser_pose: Pose2D | None,
                now: float) -> None:
