@@ -5,10 +5,12 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from behaviors.base import FAILURE, SUCCESS, Port, PortInformation, Status
 from behaviors.conditions.condition import Condition
 from navcore.motion.dither import DitherCheck
-from navcore.motion.path_progress import remaining_length
+from navcore.motion.path_progress import length_to_go, remaining_length
 from navcore.types import Path, Pose2D
 
 
@@ -42,6 +44,8 @@ class IsDithering(Condition):
         self._check = DitherCheck()
         self._goal: Pose2D | None = None
         self._until = -math.inf
+        self._path: Path | None = None
+        self._to_go: np.ndarray | None = None
 
     def update(self) -> Status:
         now, goal = self.clock.now(), self.read("goal")
@@ -53,8 +57,10 @@ class IsDithering(Condition):
         path = self.read("path")
         if path is None or len(path) < 2:
             return self._verdict(False)
+        if path is not self._path:  # a new plan: sum its lengths once
+            self._path, self._to_go = path, length_to_go(path.poses)
         pose = self.pose()
-        self._check.update(now, pose.x, pose.y, remaining_length(path, pose),
+        self._check.update(now, pose.x, pose.y, remaining_length(path, pose, self._to_go),
                            self.get_input("min_progress"))
         if not self._check.dithering(now, self.get_input("window"), self.get_input("min_travel")):
             return self._verdict(False)
