@@ -67,17 +67,38 @@ TIGHTEN = {"max_vel_x": "down", "min_vel_x": "up", "max_vel_y": "down", "max_vel
            "watchdog_periods": "down"}
 
 
+SPACINGS_KEPT = 200  # arrival spacings a sensor's rate is learnt from
+
+
 class _Arrivals:
     """When one sensor's messages arrive: a tick without a new message, later after the last
     arrival than any spacing seen while healthy, is a missed message."""
 
-    __slots__ = ("stamp", "arrived", "spacings", "missing")
+    __slots__ = ("stamp", "arrived", "spacings", "missing", "_count", "_peaks")
 
     def __init__(self) -> None:
         self.stamp: float | None = None
         self.arrived: float | None = None
-        self.spacings: deque[float] = deque(maxlen=200)
+        self.spacings: deque[float] = deque(maxlen=SPACINGS_KEPT)
         self.missing = False
+        self._count = 0  # spacings appended so far
+        # (number, spacing) of the spacings kept that no later one equals or exceeds, oldest
+        # first: the first is the longest kept (max() over 200 floats took ~4 us per tick)
+        self._peaks: deque[tuple[int, float]] = deque()
+
+    def _add_spacing(self, gap: float) -> None:
+        self.spacings.append(gap)
+        peaks = self._peaks
+        while peaks and peaks[-1][1] <= gap:
+            peaks.pop()
+        peaks.append((self._count, gap))
+        self._count += 1
+        if peaks[0][0] < self._count - SPACINGS_KEPT:  # dropped from ``spacings``
+            peaks.popleft()
+
+    def longest(self) -> float:
+        """max(spacings) (there is at least one)."""
+        return self._peaks[0][1]
 
     def missed(self, stamp: float, now: float) -> bool:
         if stamp != self.stamp:  # a new message
@@ -86,12 +107,12 @@ class _Arrivals:
                 # a gap up to twice the usual one is the sensor's jitter (a 10 Hz laser read by
                 # a 10 Hz loop sometimes skips a cycle): learnt, so that it stops the robot once
                 # at most; a longer one was a drop-out and is not
-                if not self.missing or (self.spacings and gap <= 2.0 * max(self.spacings)):
-                    self.spacings.append(gap)
+                if not self.missing or (self.spacings and gap <= 2.0 * self.longest()):
+                    self._add_spacing(gap)
             self.stamp, self.arrived, self.missing = stamp, now, False
             return False
         if len(self.spacings) >= 3 and self.arrived is not None:
-            if now - self.arrived >= max(self.spacings) - 1e-9:
+            if now - self.arrived >= self.longest() - 1e-9:
                 self.missing = True
         return self.missing
 
@@ -153,7 +174,9 @@ class SafetyGate:
             ranges = scan.ranges
             prev = self._ranges
             # np.array_equal's test without its Python wrapper (this runs every cycle)
-            same = prev is not None and prev.shape == ranges.shape and bool((ranges == prev).all())
+            same = (prev is not None and prev.shape == ranges.shape
+                    and (ranges.size == 0 or ranges[0] == prev[0])  # most scans differ at once
+                    and bool((ranges == prev).all()))
             self._repeats = self._repeats + 1 if same else 0
             self._ranges = ranges
             if not same:

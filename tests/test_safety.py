@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from executive.config import SAFETY_PARAMS
-from executive.safety import SafetyGate, Watchdog
+from executive.safety import SPACINGS_KEPT, SafetyGate, Watchdog, _Arrivals
 from navcore.params import ParameterError, Parameters
 from navcore.types import LaserScan, Odometry, Pose2D, Twist
 
@@ -214,3 +214,16 @@ def test_a_sensor_that_sometimes_skips_a_cycle_stops_the_robot_once_only() -> No
         _healthy(f, 3)
     f.tick(scan=False)
     assert "stale_laser" in f.tick(scan=False).faults   # two in a row is more than jitter
+
+
+def test_the_longest_arrival_spacing_kept_is_the_max_of_the_last_ones():
+    rng = np.random.default_rng(2)
+    arrivals = _Arrivals()
+    # rising, falling, repeated and random spacings, past the number kept
+    gaps = np.concatenate([np.linspace(0.05, 0.2, 150), np.linspace(0.3, 0.01, 150),
+                           np.full(50, 0.1), rng.choice([0.05, 0.1, 0.2], 300),
+                           rng.uniform(0.0, 1.0, 300)])
+    for g in gaps:
+        arrivals._add_spacing(float(g))
+        assert len(arrivals.spacings) <= SPACINGS_KEPT
+        assert arrivals.longest() == max(arrivals.spacings)
