@@ -15,7 +15,7 @@ from py_trees.common import Access, Status
 from behaviors.base import make
 from behaviors.testing import FakeCostmap, World
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
-from navcore.costmap.costmap2d import _fill_convex_cells
+from navcore.costmap.costmap2d import _fill_convex_cells, shift_grid
 from navcore.costmap.observed_space import (NEVER, ObservedSpace, first_unobserved, free_body,
                                             stamp_scan)
 from navcore.error_codes import BackUpError, DriveOnHeadingError, RecoveryError, SpinError
@@ -238,6 +238,31 @@ def test_the_window_rolls_with_the_robot_and_keeps_what_it_saw():
     moved = space.free_since(0.5)
     for j, i in cells:
         assert moved[j, i - 10]
+
+
+def test_the_window_moves_as_shift_grid_moves_a_copy():
+    # long runs one way (the store behind the window runs out and is recentred), steps back,
+    # jumps further than the window; random stamps written between the moves
+    rng = np.random.default_rng(9)
+    space = ObservedSpace(RES, 12, 9, RECT)
+    ref_free, ref_occ = space.free.copy(), space.occupied.copy()
+    moves = [(1, 0)] * 30 + [(0, 1)] * 25 + [(-1, -1)] * 20 + [(0, -3), (5, 0), (-11, 0),
+                                                               (12, 0), (0, 9), (3, -8)]
+    moves += [tuple(int(v) for v in rng.integers(-4, 5, 2)) for _ in range(60)]
+    space.recentre(0.3, 0.22)
+    for dx, dy in moves:
+        mask = rng.random(ref_free.shape) < 0.2
+        stamps = rng.uniform(0.0, 9.0, ref_free.shape)
+        for grid, ref in ((space.free, ref_free), (space.occupied, ref_occ)):
+            grid[mask] = stamps[mask]
+            ref[mask] = stamps[mask]
+        x0, y0 = space.origin_x, space.origin_y
+        space.recentre(x0 + (6 + dx) * RES + 0.01, y0 + (4.5 + dy) * RES + 0.01)
+        assert (round((space.origin_x - x0) / RES), round((space.origin_y - y0) / RES)) == (dx, dy)
+        ref_free, ref_occ = shift_grid(ref_free, dx, dy, NEVER), shift_grid(ref_occ, dx, dy, NEVER)
+        np.testing.assert_array_equal(space.free, ref_free, err_msg=f"{(dx, dy)}")
+        np.testing.assert_array_equal(space.occupied, ref_occ, err_msg=f"{(dx, dy)}")
+        assert space.free.flags.c_contiguous and space.occupied.flags.c_contiguous
 
 
 def scan_of(occ: np.ndarray, pose: Pose2D, fov: float = 4 * math.pi / 3, beams: int = 241,
