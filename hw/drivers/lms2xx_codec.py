@@ -34,7 +34,7 @@ def _crc16(buf: np.ndarray) -> int:
     crc = 0
     prev = 0
     for i in range(buf.shape[0]):
-        b = buf[i]
+        b = int(buf[i])  # a plain int: numpy's uint8 would overflow in plain Python
         if crc & 0x8000:
             crc = ((crc & 0x7FFF) << 1) ^ 0x8005
         else:

@@ -148,7 +148,7 @@ def _decode_data_lines(buf: np.ndarray, width: int, n_values: int) -> tuple:
             return out, 2, i            # empty or overlong data line
         s = 0
         for p in range(i, j - 1):
-            c = buf[p]
+            c = int(buf[p])  # plain ints: numpy's uint8 would wrap in plain Python
             if c < 0x30 or c > 0x6F:
                 return out, 3, p        # not a SCIP data character
             s += c
@@ -159,7 +159,7 @@ def _decode_data_lines(buf: np.ndarray, width: int, n_values: int) -> tuple:
         for p in range(i, j - 1):
             if k >= n_values:
                 return out, 5, p        # more data than the request asked for
-            acc = (acc << 6) | (buf[p] - 0x30)
+            acc = (acc << 6) | (int(buf[p]) - 0x30)
             got += 1
             if got == width:
                 out[k] = acc

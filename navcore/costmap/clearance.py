@@ -106,7 +106,7 @@ def _clearances(footprint: np.ndarray, poses: np.ndarray, cos_t: np.ndarray, sin
                 dy = abs(py[i] - squares[j, 1]) - half
                 if dx < 0.0 and dy < 0.0:
                     vertex_in = True
-                d = math.hypot(max(dx, 0.0), max(dy, 0.0))
+                d = np.hypot(max(dx, 0.0), max(dy, 0.0))  # libm's in both modes, as in the test
                 if d < gap:
                     gap = d
         out[k] = -depth if any_inside else (0.0 if vertex_in else gap)

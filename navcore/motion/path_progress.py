@@ -27,7 +27,7 @@ def _length_to_go(poses: np.ndarray) -> np.ndarray:
     out[n - 1] = 0.0
     total = 0.0
     for i in range(n - 2, -1, -1):
-        step = math.hypot(poses[i + 1, 0] - poses[i, 0], poses[i + 1, 1] - poses[i, 1])
+        step = np.hypot(poses[i + 1, 0] - poses[i, 0], poses[i + 1, 1] - poses[i, 1])
         total = step if i == n - 2 else total + step
         out[i] = total
     return out
@@ -46,15 +46,17 @@ def remaining_length(path: Path, pose: Pose2D, to_go: np.ndarray | None = None) 
 @njit(cache=True)
 def _closest_remaining(poses: np.ndarray, x: float, y: float, to_go: np.ndarray) -> float:
     """Distance to the closest pose plus ``to_go`` from it (the first closest, as np.argmin;
-    a NaN distance wins, as there). Checked every tick, so one pass without temporaries."""
+    a NaN distance wins, as there). Checked every tick, so one pass without temporaries.
+    np.hypot, not math.hypot: libm's in both modes (plain Python's math.hypot differs by an ulp
+    from the compiled one)."""
     best, best_d = 0, math.inf
     for i in range(poses.shape[0]):
-        d = math.hypot(poses[i, 0] - x, poses[i, 1] - y)
+        d = np.hypot(poses[i, 0] - x, poses[i, 1] - y)
         if d != d:
             return d + to_go[i]
         if d < best_d:
             best, best_d = i, d
     if best_d == math.inf:  # every distance infinite: np.argmin takes the first
         best = 0
-        best_d = math.hypot(poses[0, 0] - x, poses[0, 1] - y)
+        best_d = np.hypot(poses[0, 0] - x, poses[0, 1] - y)
     return best_d + to_go[best]
