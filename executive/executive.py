@@ -9,10 +9,11 @@ of executive/stack.py) to **decide**; the ``SafetyGate`` (executive/safety.py) a
 **act**; the ``Recorder`` (executive/recorder.py) to **record**; the clock to **wait**.
 ``executive/mission.py`` wires these from a config; ``executive/api.py`` is the public face.
 
-An exception raised in a tick is a bug, not a navigation failure: the mission ends with
-INTERNAL_ERROR (the node, the traceback in the tick record and the summary) and the robot stops;
-a fault while sensing stops the robot for that tick and the loop carries on. Each Executive keeps its blackboard
-keys under its own namespace, so two missions in one process never see each other's goal or path.
+An exception raised in a tick, in localisation or in a costmap update is a bug, not a navigation
+failure: the mission ends with INTERNAL_ERROR (where, the traceback in the tick record and the
+summary) and the robot stops; a fault of the robot I/O while sensing stops the robot for that
+tick and the loop carries on. Each Executive keeps its blackboard keys under its own namespace,
+so two missions in one process never see each other's goal or path.
 """
 
 from __future__ import annotations
@@ -174,7 +175,7 @@ class Executive:
         self._last_act_wall: float | None = None
         self._watchdog: Watchdog | None = None
         self._started = False
-        self.internal_error: dict[str, Any] | None = None  # the error event of a bug in the tree
+        self.internal_error: dict[str, Any] | None = None  # the error event of a bug
         self.recorder.attach(self)
 
     @property
@@ -208,6 +209,12 @@ class Executive:
         self._events.append(event)
         self.trace.errors.append(event)
 
+    def _internal_error(self, node: Any, where: str, e: BaseException) -> None:
+        """A bug: the error event becomes ``internal_error``; the mission ends, the robot stops
+        and the tree is not ticked again."""
+        self._error(node, where, e)
+        self.internal_error = self.trace.errors[-1]
+
     # --- goals --------------------------------------------------------------------------------
     def set_goal(self, goal: Pose2D, goals: list[Pose2D] | None = None) -> None:
         """Start a new goal: the tree restarts from scratch with ``goal`` on the blackboard."""
@@ -234,20 +241,18 @@ class Executive:
         errors: list[str] = []  # a phase that raises stops the robot for this cycle
         try:
             self._sense(now)
-        except Exception as e:  # noqa: BLE001 - a sensing fault stops the robot, not the loop
+        except Exception as e:  # noqa: BLE001 - a device fault stops the robot, not the loop
             self._error("executive", "sense", e)
             errors.append("sense")
+        phase = "estimate"
         try:
             pose = self._estimate()
-        except Exception as e:  # noqa: BLE001
-            self._error("executive", "estimate", e)
-            errors.append("estimate")
-        try:
+            phase = "perceive"
             self._perceive(pose, now)
-        except Exception as e:  # noqa: BLE001
-            self._error("executive", "perceive", e)
-            errors.append("perceive")
-        requested = self._decide()
+        except Exception as e:  # noqa: BLE001 - a bug in localisation or the costmaps
+            self._internal_error("executive", phase, e)
+            errors.append(phase)
+        requested = self._decide() if self.internal_error is None else Twist.zero()
         cmd = self._act(requested, now, errors)
         status = self.tree.root.status if self.internal_error is None else FAILURE
         self._record(now, pose, cmd, status, wall0)
@@ -297,8 +302,7 @@ class Executive:
             return self.handle.tick_command()
         except Exception as e:  # noqa: BLE001 - a bug: INTERNAL_ERROR, the robot stops
             node, where = failing_node(e)
-            self._error(node if node is not None else "tree", where, e)
-            self.internal_error = self.trace.errors[-1]
+            self._internal_error(node if node is not None else "tree", where, e)
             try:
                 self.tree.interrupt()
             except Exception:  # noqa: BLE001

@@ -159,6 +159,45 @@ def test_exception_in_node_is_an_internal_error_that_ends_the_mission():
     assert all(c.is_zero() for c in io_.sent)
 
 
+class BrokenPerception:
+    """Localisation (``estimate``) or a costmap update (``perceive``) with a bug: it raises from
+    the third cycle on."""
+
+    def __init__(self, phase: str) -> None:
+        self.phase, self.cycles = phase, 0
+
+    def estimate(self, odom, scan):
+        self.cycles += 1
+        if self.phase == "estimate" and self.cycles >= 3:
+            raise TypeError("unsupported operand type(s) for +: 'float' and 'NoneType'")
+        return None  # the robot I/O's ground truth
+
+    def perceive(self, pose, scan, now) -> None:
+        if self.phase == "perceive" and self.cycles >= 3:
+            raise IndexError("index 120 is out of bounds for axis 0 with size 120")
+
+
+@pytest.mark.parametrize("phase", ["estimate", "perceive"])
+def test_a_bug_in_localisation_or_a_costmap_update_ends_the_mission(phase):
+    # Before, the robot stopped each cycle and the tree ticked on until the time limit: the
+    # mission ended in a timeout that did not say why. Now it ends at once with INTERNAL_ERROR.
+    stream = io.StringIO()
+    io_ = FakeIO(Pose2D())
+    ex = Executive(py_trees.trees.BehaviourTree(DriveToGoal("drive")), io_, SimClock(), 0.1,
+                   perception=BrokenPerception(phase), recorder=Recorder(stream))
+    result = ex.run([Pose2D(2.0, 0.0)], time_limit=30.0)
+    assert result.outcome == "failed" and result.ticks == 3
+    error = ("TypeError: unsupported operand" if phase == "estimate"
+             else "IndexError: index 120 is out of bounds")
+    assert result.reason.startswith(f"INTERNAL_ERROR in 'executive' ({phase}): {error}")
+    assert f"in {phase}\n" in result.traceback and result.traceback.startswith("Traceback")
+    # driving for two cycles, zero from the third on (the end of the task sends one more)
+    assert [c.is_zero() for c in io_.sent] == [False, False, True, True]
+    lines = [json.loads(s) for s in stream.getvalue().splitlines()]
+    assert lines[-1]["footer"]["traceback"] == result.traceback
+    ex.shutdown()
+
+
 class Exploding:
     """A component that raises: a costmap that cannot reset, a controller that cannot start."""
 
