@@ -20,7 +20,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar, Generator, Iterable, Iterator
+from typing import Any, ClassVar, Iterable, Iterator
 
 import py_trees
 from py_trees.common import Status
@@ -86,9 +86,8 @@ class ComponentError(BehaviorError, RuntimeError):
     """A node's ``setup`` did not receive a component it needs; the message names both."""
 
 
-# What ``tick_children`` is: a generator of the nodes ticked (py_trees' tick protocol) that
-# returns the node's own status for this tick.
-Ticking = Generator[py_trees.behaviour.Behaviour, None, Status]
+# What ``tick`` is: a generator of the nodes ticked, each as it finishes (py_trees' protocol).
+Ticking = Iterator[py_trees.behaviour.Behaviour]
 
 
 def namespaced(namespace: str, key: str) -> str:
@@ -306,16 +305,18 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
 
 
 class Control(NavNode, py_trees.composites.Composite):
-    """Base of control nodes: subclasses implement ``tick_children``.
+    """Base of control nodes: subclasses implement ``tick`` as py_trees' composites do.
 
     Tick semantics are py_trees' (docs/trees.md, "How a tick works"): ``tick`` is a generator
-    yielding every node ticked, each as it finishes, then this node. A tick that starts a new
-    run (this node not RUNNING) first stops every child that is not INVALID, as py_trees'
-    Sequence and Selector do, so the run starts them afresh; ``tick_children`` then ticks
-    children (``yield from child.tick()``) and returns this node's status. A final status
-    stops this node: children still RUNNING are stopped (INVALID), finished ones keep their
-    status for introspection until the next run (py_trees; BT.CPP resets them at once, which
-    gives the same behaviour on the next tick). ``stop(INVALID)`` (a halt) stops every child.
+    yielding every node ticked, each as it finishes, then this node. It starts with
+    ``begin_tick()``: a tick that starts a new run (this node not RUNNING) first stops every child
+    that is not INVALID, as py_trees' Sequence and Selector do, so the run starts them afresh.
+    It ticks children (``yield from child.tick()``) and ends with ``yield
+    self.finish(status)``: a final status stops this node: children still RUNNING are stopped
+    (INVALID), finished ones keep their status for introspection until the next run (py_trees;
+    BT.CPP resets them at once, which gives the same behaviour on the next tick).
+    ``stop(INVALID)`` (a halt) stops every child. (One generator per node and tick: each
+    yield passes through every ancestor's generator, so a second one per node would cost.)
 
     ``MIN_CHILDREN``/``MAX_CHILDREN`` are checked by the loader (STYLE 2.5) and at construction.
     """
@@ -328,21 +329,28 @@ class Control(NavNode, py_trees.composites.Composite):
                  **kwargs: Any) -> None:
         super().__init__(name=name, children=list(children or []), **kwargs)
 
-    def tick_children(self) -> Ticking:
-        """Tick children for this tick (``yield from child.tick()``); return this node's status.
-        ``self.status`` is still the previous tick's (not RUNNING: a new run)."""
-        raise NotImplementedError(f"{type(self).__name__}: no tick_children")
+    def tick(self) -> Ticking:
+        """Tick children for this tick (``yield from child.tick()``), then end it with
+        ``yield self.finish(status)``; start with ``self.begin_tick()``."""
+        raise NotImplementedError(f"{type(self).__name__}: no tick")
         yield  # (a generator)
 
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        if self.status is not RUNNING:
-            self.halt_children()
-        status = yield from self.tick_children()
+    def begin_tick(self) -> bool:
+        """First thing in ``tick``: True when this tick starts a new run (this node not
+        RUNNING), having stopped every child that is not INVALID."""
+        if self.status is RUNNING:
+            return False
+        self.halt_children()
+        return True
+
+    def finish(self, status: Status) -> Control:
+        """End this tick with ``status`` (a final one stops this node); this node, for
+        ``yield self.finish(status)``."""
         if status is RUNNING:
             self.status = RUNNING
         else:
             self.stop(status)
-        yield self
+        return self
 
     def halt_children(self, start: int = 0) -> None:
         """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
@@ -365,9 +373,9 @@ class Control(NavNode, py_trees.composites.Composite):
 
 
 class DecoratorNode(NavNode, py_trees.decorators.Decorator):
-    """Base of decorators that decide *whether* and *how* to tick their child
-    (``tick_children``), with the tick semantics of ``Control``: a new run stops the child if
-    it is not INVALID; a final status stops a RUNNING child; a halt stops the child."""
+    """Base of decorators that decide *whether* and *how* to tick their child (``tick``,
+    with ``begin_tick`` and ``finish`` as in ``Control``): a new run stops the child if it is not
+    INVALID; a final status stops a RUNNING child; a halt stops the child."""
 
     CATEGORY = "Decorator"
 
@@ -377,24 +385,31 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
             raise TypeError(f"{type(self).__name__} '{name}': a decorator needs a child")
         super().__init__(name=name, child=child, **kwargs)
 
-    def tick_children(self) -> Ticking:
-        """Tick the child or not (``yield from self.decorated.tick()``); return this node's
-        status."""
-        raise NotImplementedError(f"{type(self).__name__}: no tick_children")
+    def tick(self) -> Ticking:
+        """Tick the child or not (``yield from self.decorated.tick()``), then end the tick with
+        ``yield self.finish(status)``; start with ``self.begin_tick()``."""
+        raise NotImplementedError(f"{type(self).__name__}: no tick")
         yield  # (a generator)
 
-    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        if self.status is not RUNNING:
-            self.halt_child()
-        status = yield from self.tick_children()
+    def begin_tick(self) -> bool:
+        """First thing in ``tick``: True when this tick starts a new run (this node not
+        RUNNING), having stopped the child if it is not INVALID."""
+        if self.status is RUNNING:
+            return False
+        self.halt_child()
+        return True
+
+    def finish(self, status: Status) -> DecoratorNode:
+        """End this tick with ``status`` (a final one stops this node); this node, for
+        ``yield self.finish(status)``."""
         if status is RUNNING:
             self.status = RUNNING
         else:
             self.stop(status)
-        yield self
+        return self
 
     def update(self) -> Status:
-        """Unused: these decorators decide in ``tick_children`` (py_trees declares it abstract)."""
+        """Unused: these decorators decide in ``tick`` (py_trees declares it abstract)."""
         return self.decorated.status
 
     def halt_child(self) -> None:

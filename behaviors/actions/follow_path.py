@@ -18,6 +18,8 @@ from navcore.path_ops import TrackingFeedback, tracking_feedback
 from navcore.types import Path, Pose2D, Twist
 
 SHIM = ShimParams()  # Nav2's defaults
+# looked up once: an Enum member is a slow class-attribute look-up, and update() runs every tick
+_GOAL_REACHED, _NO_VALID = ControlStatus.GOAL_REACHED, ControllerError.NO_VALID_CONTROL
 
 
 class FollowPath(Leaf):
@@ -132,14 +134,14 @@ class FollowPath(Leaf):
             if turn is not None:
                 return turn
         result = self._controller.compute_velocity(pose, self.robot.velocity())
-        if result.status == ControlStatus.GOAL_REACHED or self._controller.is_goal_reached():
+        if result.status == _GOAL_REACHED or self._controller.is_goal_reached():
             self.write("cmd_vel", Twist.zero())
             self.write("error_code_id", int(ControllerError.NONE))
             self.write("error_msg", "")
             self.say("goal reached")
             return SUCCESS
         code = CONTROL_CODES.get(result.status)
-        if code is ControllerError.NO_VALID_CONTROL:
+        if code is _NO_VALID:
             return self._no_valid(now, str(result.status))
         if code is not None:
             return self.fail(code, f"controller: {result.status}")

@@ -20,22 +20,25 @@ class _Async(Control):
         super().__init__(*args, **kwargs)
         self._index = 0
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._index = 0
         child = self.children[self._index]
         self.current_child = child
         yield from child.tick()
         if child.status is RUNNING:
-            return RUNNING
+            yield self.finish(RUNNING)
+            return
         if child.status is self.STOP_ON:
             self._index = 0
-            return self.STOP_ON
+            yield self.finish(self.STOP_ON)
+            return
         self._index += 1
         if self._index == len(self.children):
             self._index = 0
-            return self.ALL_DONE
-        return RUNNING
+            yield self.finish(self.ALL_DONE)
+            return
+        yield self.finish(RUNNING)
 
 
 class AsyncSequence(_Async):

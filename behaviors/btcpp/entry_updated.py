@@ -58,14 +58,17 @@ class _EntryUpdated(Scripted, DecoratorNode):
         super().__init__(*args, **kwargs)
         self._seen: Any = _NEVER
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         child = self.decorated
         if child.status is not RUNNING:
             changed, self._seen = entry_changed(self.bound_key("entry"), self._seen)
             if not changed:
-                return skipped_status(self) if self.NOT_UPDATED == "SKIPPED" else RUNNING
+                yield self.finish(skipped_status(self) if self.NOT_UPDATED == "SKIPPED"
+                                  else RUNNING)
+                return
         yield from child.tick()
-        return child.status
+        yield self.finish(child.status)
 
     def stop(self, new_status: Status = INVALID) -> None:
         super().stop(new_status)

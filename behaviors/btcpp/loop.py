@@ -36,13 +36,14 @@ class _Loop(DecoratorNode):
                 items.append(self.ITEM(v.strip() if isinstance(v, str) else v))
         return items
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._items, self._child_running = self._queue(), False
         if not self._child_running:
             if not self._items:
                 done = self.get_input("if_empty")
-                return skipped_status(self) if done == "SKIPPED" else STATUS_NAMES[done]
+                yield self.finish(skipped_status(self) if done == "SKIPPED" else STATUS_NAMES[done])
+                return
             value = self._items.pop(0)
             self.write("value", value)
             key = self._keys.get("queue")
@@ -52,10 +53,11 @@ class _Loop(DecoratorNode):
         status = self.decorated.status
         self._child_running = status is RUNNING
         if status is FAILURE:
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         if status is SUCCESS:
             self.halt_child()
-        return RUNNING
+        yield self.finish(RUNNING)
 
 
 def _loop_ports(item: type, doc: str) -> tuple[dict, dict]:

@@ -13,8 +13,8 @@ class ParallelAll(Control):
     INPUT_PORTS = {"max_failures": Port(int, False, "failures that make it fail", 1, low=1)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._done: dict[int, Status] = {}
         for i, child in enumerate(self.children):
             if i in self._done:
@@ -23,7 +23,8 @@ class ParallelAll(Control):
             if child.status in (SUCCESS, FAILURE):
                 self._done[i] = child.status
         if len(self._done) < len(self.children):
-            return RUNNING
+            yield self.finish(RUNNING)
+            return
         failures = sum(1 for s in self._done.values() if s is FAILURE)
         self.say(f"{failures} of {len(self.children)} failed")
-        return FAILURE if failures >= self.get_input("max_failures") else SUCCESS
+        yield self.finish(FAILURE if failures >= self.get_input("max_failures") else SUCCESS)

@@ -20,12 +20,14 @@ class Precondition(Scripted, DecoratorNode):
     SCRIPT_PORTS = ("if",)
     CHOICES = {"else": tuple(STATUS_NAMES)}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         child = self.decorated
         if child.status is not RUNNING:
             program = self.program("if")
             if program is None or not program.true(STORAGE):
                 status = STATUS_NAMES[self.get_input("else")]
-                return skipped_status(self) if status is None else status
+                yield self.finish(skipped_status(self) if status is None else status)
+                return
         yield from child.tick()
-        return child.status
+        yield self.finish(child.status)

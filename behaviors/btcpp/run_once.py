@@ -24,11 +24,13 @@ class RunOnce(DecoratorNode):
     def setup(self, **kwargs: Any) -> None:
         pass
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         if self._done is not None:
-            return skipped_status(self) if self.get_input("then_skip") else self._done
+            yield self.finish(skipped_status(self) if self.get_input("then_skip") else self._done)
+            return
         yield from self.decorated.tick()
         status = self.decorated.status
         if status in (SUCCESS, FAILURE):
             self._done = status
-        return status
+        yield self.finish(status)

@@ -16,7 +16,8 @@ class _Switch(Control):
     INPUT_PORTS: dict[str, PortInformation]
     OUTPUT_PORTS: dict[str, PortInformation]
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         variable = self.read("variable")
         match = self.CASES
         if variable is not None:
@@ -31,7 +32,7 @@ class _Switch(Control):
         child = self.children[match]
         self.current_child = child
         yield from child.tick()
-        return child.status
+        yield self.finish(child.status)
 
 
 def _same(a: object, b: object) -> bool:

@@ -16,8 +16,8 @@ class TryCatch(Control):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     MIN_CHILDREN = 2
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._index, self._catching = 0, False
         if not self._catching:
             while self._index < len(self.children) - 1:
@@ -25,17 +25,19 @@ class TryCatch(Control):
                 self.current_child = child
                 yield from child.tick()
                 if child.status is RUNNING:
-                    return RUNNING
+                    yield self.finish(RUNNING)
+                    return
                 if child.status is FAILURE:
                     self._catching = True
                     break
                 self._index += 1
             if not self._catching:
-                return SUCCESS
+                yield self.finish(SUCCESS)
+                return
         catch = self.children[-1]
         self.current_child = catch
         yield from catch.tick()
-        return RUNNING if catch.status is RUNNING else FAILURE
+        yield self.finish(RUNNING if catch.status is RUNNING else FAILURE)
 
     def stop(self, new_status: Status = INVALID) -> None:
         if new_status is INVALID and self.status is RUNNING and not self._catching \

@@ -14,11 +14,13 @@ class WhileDoElse(Control):
     OUTPUT_PORTS: dict[str, PortInformation] = {}
     MIN_CHILDREN, MAX_CHILDREN = 2, 3
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         cond = self.children[0]
         yield from cond.tick()
         if cond.status is RUNNING:
-            return RUNNING
+            yield self.finish(RUNNING)
+            return
         if cond.status is SUCCESS:
             if len(self.children) == 3:
                 self.halt_children(2)
@@ -28,7 +30,8 @@ class WhileDoElse(Control):
                 self.children[1].stop(INVALID)
             branch = self.children[2]
         else:
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         self.current_child = branch
         yield from branch.tick()
-        return branch.status
+        yield self.finish(branch.status)

@@ -21,21 +21,23 @@ class IfThenElse(Control):
         super().__init__(*args, **kwargs)
         self._branch = 0
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._branch = 0
         if self._branch == 0:
             cond = self.children[0]
             yield from cond.tick()
             if cond.status is RUNNING:
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             if cond.status is SUCCESS:
                 self._branch = 1
             elif len(self.children) == 3:
                 self._branch = 2
             else:
-                return FAILURE
+                yield self.finish(FAILURE)
+                return
         branch = self.children[self._branch]
         self.current_child = branch
         yield from branch.tick()
-        return branch.status
+        yield self.finish(branch.status)

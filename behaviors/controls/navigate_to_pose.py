@@ -56,6 +56,7 @@ class NavigateToPose(Control):
                           {"controller_id": self.get_input("controller_id")})
         self._pipe.wire(namespace)
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         yield from self._pipe.tick()
-        return self._pipe.status
+        yield self.finish(self._pipe.status)

@@ -24,7 +24,8 @@ class InOrder(Control):
         super().__init__(*args, **kwargs)
         self._index = 0
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         if not self.MEMORY and self.status is not RUNNING:
             self._index = 0
         while self._index < len(self.children):
@@ -32,14 +33,16 @@ class InOrder(Control):
             self.current_child = child
             yield from child.tick()
             if child.status is RUNNING:
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             if child.status is self.STOP_ON:
                 if not self.MEMORY:
                     self._index = 0
-                return self.STOP_ON
+                yield self.finish(self.STOP_ON)
+                return
             self._index += 1
         self._index = 0
-        return self.ALL_DONE
+        yield self.finish(self.ALL_DONE)
 
 
 class Reactive(Control):
@@ -53,13 +56,16 @@ class Reactive(Control):
     STOP_ON: ClassVar[Status]
     ALL_DONE: ClassVar[Status]
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         for i, child in enumerate(self.children):
             self.current_child = child
             yield from child.tick()
             if child.status is RUNNING:
                 self.halt_children(i + 1)
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             if child.status is self.STOP_ON:
-                return self.STOP_ON
-        return self.ALL_DONE
+                yield self.finish(self.STOP_ON)
+                return
+        yield self.finish(self.ALL_DONE)

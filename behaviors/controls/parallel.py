@@ -23,8 +23,8 @@ class Parallel(Control):
         n = self.get_input(port)
         return len(self.children) if n < 0 else min(n, len(self.children))
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._done: dict[int, Status] = {}
         need_success, need_failure = self._threshold("success_count"), self._threshold("failure_count")
         for i, child in enumerate(self.children):
@@ -36,8 +36,8 @@ class Parallel(Control):
         successes = sum(1 for s in self._done.values() if s is SUCCESS)
         failures = len(self._done) - successes
         if successes >= need_success:
-            return SUCCESS
+            yield self.finish(SUCCESS)
         elif failures >= need_failure or len(self._done) == len(self.children):
-            return FAILURE
+            yield self.finish(FAILURE)
         else:
-            return RUNNING
+            yield self.finish(RUNNING)

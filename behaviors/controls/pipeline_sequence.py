@@ -19,17 +19,19 @@ class PipelineSequence(Control):
         super().__init__(*args, **kwargs)
         self._last = 0
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._last = 0
         for i, child in enumerate(self.children):
             self.current_child = child
             yield from child.tick()
             if child.status is FAILURE:
                 self._last = 0
-                return FAILURE
+                yield self.finish(FAILURE)
+                return
             if child.status is RUNNING and i >= self._last:
                 self._last = i
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
         self._last = 0
-        return SUCCESS
+        yield self.finish(SUCCESS)

@@ -66,8 +66,8 @@ class RecoveryNode(Control):
                     new_run()
             self.say("main child recovered: recoveries start again")
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._retries, self._index = 0, 0
         limit = self.get_input("number_of_retries")
         main, recovery = self.children
@@ -78,22 +78,27 @@ class RecoveryNode(Control):
                 if main.status is RUNNING:
                     if self._retries:  # (else nothing to reset: the usual tick, no call)
                         self._maybe_reset(recovery)
-                    return RUNNING
+                    yield self.finish(RUNNING)
+                    return
                 if main.status is SUCCESS:
-                    return SUCCESS
+                    yield self.finish(SUCCESS)
+                    return
                 if self._retries >= limit:
                     self.say(f"main child failed after {self._retries} recoveries")
-                    return FAILURE
+                    yield self.finish(FAILURE)
+                    return
                 main.stop(INVALID)
                 self._index = 1
             else:
                 self.current_child = recovery
                 yield from recovery.tick()
                 if recovery.status is RUNNING:
-                    return RUNNING
+                    yield self.finish(RUNNING)
+                    return
                 if recovery.status is FAILURE:
                     self.say(f"recovery {self._retries + 1} failed")
-                    return FAILURE
+                    yield self.finish(FAILURE)
+                    return
                 recovery.stop(INVALID)
                 self._retries += 1
                 self._since = self._clock.now() if self._clock is not None else 0.0

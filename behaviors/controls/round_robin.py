@@ -30,19 +30,22 @@ class RoundRobin(Control):
         self._index = 0
         self._failed = 0
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         n = len(self.children)
         wrap = self.get_input("wrap_around")
         if self._index >= n:  # the last child succeeded last time and there is no wrap
             self._index, self._failed = 0, 0
             self.say("every child attempted")
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         while self._failed < n:
             child = self.children[self._index]
             self.current_child = child
             yield from child.tick()
             if child.status is RUNNING:
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             self._index += 1
             exhausted = self._index == n
             if exhausted and wrap:
@@ -52,14 +55,15 @@ class RoundRobin(Control):
                 break  # Nav2 main: the end of the list without wrap is FAILURE, even on success
             if child.status is SUCCESS:
                 self._failed = 0
-                return SUCCESS
+                yield self.finish(SUCCESS)
+                return
             self._failed += 1
             if exhausted and not wrap:
                 break
         self._failed = 0
         self._index = self._index % n if wrap else 0
         self.say("every child attempted")
-        return FAILURE
+        yield self.finish(FAILURE)
 
     def terminate(self, new_status: Status) -> None:
         # Interrupted while running (goal change, parent halted): forget the position.

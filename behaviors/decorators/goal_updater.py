@@ -20,10 +20,11 @@ class GoalUpdater(DecoratorNode):
     OUTPUT_PORTS = {"output_goal": PortInformation(Pose2D, True, "goal the subtree should use")}
     DEFAULT_KEYS = {"input_goal": "goal", "goal_update": "goal_update", "output_goal": "goal"}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         update = self.read("goal_update")
         goal = update if update is not None else self.read("input_goal")
         if goal is not None:
             self.write("output_goal", goal)
         yield from self.decorated.tick()
-        return self.decorated.status
+        yield self.finish(self.decorated.status)

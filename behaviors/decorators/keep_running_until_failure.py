@@ -11,10 +11,11 @@ class KeepRunningUntilFailure(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         yield from self.decorated.tick()
         status = self.decorated.status
         if status is SUCCESS:
             self.decorated.stop(INVALID)
             status = RUNNING
-        return status
+        yield self.finish(status)

@@ -18,8 +18,8 @@ class Rerun(DecoratorNode):
     LIMIT_PORT: ClassVar[str]
     FEEDBACK: ClassVar[str]  # said at each counted run: {n} runs so far, {limit}
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._count = 0
         yield from self.decorated.tick()
         status = self.decorated.status
@@ -30,7 +30,7 @@ class Rerun(DecoratorNode):
             if limit < 0 or self._count < limit:
                 self.decorated.stop(INVALID)
                 status = RUNNING
-        return status
+        yield self.finish(status)
 
 
 class RetryUntilSuccessful(Rerun):

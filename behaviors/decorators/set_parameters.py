@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from behaviors.base import FAILURE, RUNNING, DecoratorNode, PortInformation, Status, Ticking
+from behaviors.base import FAILURE, DecoratorNode, PortInformation, Status, Ticking
 from navcore.params import ParameterError
 from navcore.safe_read import parse_yaml
 
@@ -57,17 +57,18 @@ class SetParameters(DecoratorNode):
         self.say(f"{ns}: set {self.get_input('values')}")
         return ""
 
-    def tick_children(self) -> Ticking:
-        if self.status is not RUNNING:
+    def tick(self) -> Ticking:
+        if self.begin_tick():
             self._put_back()
             problem = self._apply()
             if problem:
                 self.write("error_msg", problem)
                 self.say(problem)
                 if self.get_input("required"):
-                    return FAILURE
+                    yield self.finish(FAILURE)
+                    return
         yield from self.decorated.tick()
-        return self.decorated.status
+        yield self.finish(self.decorated.status)
 
     def _put_back(self) -> None:
         if self._restore is not None:

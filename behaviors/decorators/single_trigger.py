@@ -14,12 +14,14 @@ class SingleTrigger(DecoratorNode):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         if self.status is INVALID:
             self._fired = False
         if self._fired and self.decorated.status is not RUNNING:
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         yield from self.decorated.tick()
         if self.decorated.status is not RUNNING:
             self._fired = True
-        return self.decorated.status
+        yield self.finish(self.decorated.status)

@@ -15,9 +15,10 @@ class Passthrough(DecoratorNode):
     def convert(self, status: Status) -> Status:
         raise NotImplementedError
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         yield from self.decorated.tick()
-        return self.convert(self.decorated.status)
+        yield self.finish(self.convert(self.decorated.status))
 
 
 class Inverter(Passthrough):

@@ -32,7 +32,8 @@ class Throttle(DecoratorNode):
         """This node's status on a tick that does not tick the child."""
         return RUNNING
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         if self.status is INVALID:
             self._last_status = INVALID
             self.start_run()
@@ -45,6 +46,7 @@ class Throttle(DecoratorNode):
             self._last_status = child.status
             if self._last_status is SUCCESS:
                 self.child_succeeded()
-            return self._last_status
-        return self.throttled()
+            yield self.finish(self._last_status)
+            return
+        yield self.finish(self.throttled())
 

@@ -26,15 +26,17 @@ class Timeout(Timed):
     INPUT_PORTS = {"msec": Port(int, True, "time allowed, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         now = self.clock.now()
         if self.status is not RUNNING:
             self._deadline = now + self.get_input("msec") / 1000.0
         if now >= self._deadline:
             self.say("timed out")
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         yield from self.decorated.tick()
-        return self.decorated.status
+        yield self.finish(self.decorated.status)
 
 
 class Delay(Timed):
@@ -43,12 +45,14 @@ class Delay(Timed):
     INPUT_PORTS = {"delay_msec": Port(int, True, "delay before the child runs, ms", low=0)}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         now = self.clock.now()
         if self.status is not RUNNING:
             self._start_at = now + self.get_input("delay_msec") / 1000.0
         if now < self._start_at:
             self.say("waiting {:.2f} s", self._start_at - now)
-            return RUNNING
+            yield self.finish(RUNNING)
+            return
         yield from self.decorated.tick()
-        return self.decorated.status
+        yield self.finish(self.decorated.status)

@@ -43,7 +43,8 @@ class PathLongerOnApproach(DecoratorNode):
     def setup(self, **kwargs: Any) -> None:
         pass
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         new = self.read("path")
         old = self._old
         if not self._first and (old is None or len(old) == 0 or new is None or len(new) == 0
@@ -56,11 +57,13 @@ class PathLongerOnApproach(DecoratorNode):
             yield from child.tick()
             if child.status is RUNNING:
                 self.say("new path much longer near the goal: child running")
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             self._old = new
             status = child.status
             self.halt_child()
-            return status
+            yield self.finish(status)
+            return
         self._old = new
         self._first = False
-        return SUCCESS
+        yield self.finish(SUCCESS)

@@ -16,17 +16,19 @@ class NonblockingSequence(Control):
     INPUT_PORTS: dict[str, PortInformation] = {}
     OUTPUT_PORTS: dict[str, PortInformation] = {}
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         all_done = True
         for child in self.children:
             self.current_child = child
             yield from child.tick()
             if child.status is FAILURE:
                 self.halt_children()
-                return FAILURE
+                yield self.finish(FAILURE)
+                return
             if child.status is not SUCCESS:
                 all_done = False
-        return SUCCESS if all_done else RUNNING
+        yield self.finish(SUCCESS if all_done else RUNNING)
 
 
 class PersistentSequence(Control):
@@ -44,23 +46,27 @@ class PersistentSequence(Control):
         if key is not None:  # a literal index cannot be written back (as a constant in BT.CPP)
             py_trees.blackboard.Blackboard.storage[key] = index
 
-    def tick_children(self) -> Ticking:
+    def tick(self) -> Ticking:
+        self.begin_tick()
         index = self.read("current_child_idx")
         if index is None:
             self.say("current_child_idx is not set (set it with a Script or SetBlackboard)")
-            return FAILURE
+            yield self.finish(FAILURE)
+            return
         while index < len(self.children):
             child = self.children[index]
             self.current_child = child
             yield from child.tick()
             if child.status is RUNNING:
-                return RUNNING
+                yield self.finish(RUNNING)
+                return
             if child.status is FAILURE:
                 self._store(0)
                 self.halt_children()
-                return FAILURE
+                yield self.finish(FAILURE)
+                return
             index += 1
             self._store(index)
         self._store(0)
         self.halt_children()
-        return SUCCESS
+        yield self.finish(SUCCESS)
