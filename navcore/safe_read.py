@@ -25,8 +25,8 @@ from typing import Any, Callable
 
 import yaml
 from yaml.constructor import ConstructorError, SafeConstructor
-from yaml.events import (AliasEvent, CollectionEndEvent, CollectionStartEvent, DocumentStartEvent,
-                         ScalarEvent)
+from yaml.events import (AliasEvent, DocumentStartEvent, MappingEndEvent, MappingStartEvent,
+                         ScalarEvent, SequenceEndEvent, SequenceStartEvent)
 
 from navcore.errors import NavcoreError
 
@@ -133,42 +133,48 @@ def _check_events(text: str, file: str, error: ErrorType, max_depth: int, max_no
     stack: list[list[Any]] = []      # open collections: [anchor, expanded node count]
     sizes: dict[str, int] = {}       # finished anchors -> expanded node count
     total = 0
-
-    def add(n: int, line: int) -> None:
-        nonlocal total
-        total += n
-        if total > max_nodes:
-            raise error(f"{file}:{line}: the document expands to more than {max_nodes} nodes "
-                        f"through its aliases (limit)")
-        if stack:
-            stack[-1][1] += n
-
+    # one pass over libyaml's events, dispatched on the exact class (the parser makes no
+    # subclasses); the line is worked out only for an error
     for ev in yaml.parse(text, Loader=_LOADER):
-        line = ev.start_mark.line + 1 if ev.start_mark is not None else 1
-        if isinstance(ev, DocumentStartEvent):
-            stack.clear()
-        elif isinstance(ev, CollectionStartEvent):
+        kind = ev.__class__
+        if kind is ScalarEvent:
+            if ev.anchor is not None:
+                sizes[ev.anchor] = 1
+            n = 1
+        elif kind is MappingStartEvent or kind is SequenceStartEvent:
             if len(stack) >= max_depth:
-                raise error(f"{file}:{line}: nested more than {max_depth} levels deep (limit)")
+                raise error(f"{file}:{_line(ev)}: nested more than {max_depth} levels deep "
+                            f"(limit)")
             stack.append([ev.anchor, 0])
-        elif isinstance(ev, CollectionEndEvent):
+            continue
+        elif kind is MappingEndEvent or kind is SequenceEndEvent:
             anchor, n = stack.pop()
             if anchor is not None:
                 sizes[anchor] = n + 1
             if stack:
                 stack[-1][1] += n
-            add(1, line)
-        elif isinstance(ev, ScalarEvent):
-            if ev.anchor is not None:
-                sizes[ev.anchor] = 1
-            add(1, line)
-        elif isinstance(ev, AliasEvent):
+            n = 1
+        elif kind is AliasEvent:
             if ev.anchor not in sizes:
                 if any(a == ev.anchor for a, _ in stack):
-                    raise error(f"{file}:{line}: alias *{ev.anchor} refers to a node that "
+                    raise error(f"{file}:{_line(ev)}: alias *{ev.anchor} refers to a node that "
                                 f"contains it")
-                raise error(f"{file}:{line}: alias *{ev.anchor} names no anchor before it")
-            add(sizes[ev.anchor], line)
+                raise error(f"{file}:{_line(ev)}: alias *{ev.anchor} names no anchor before it")
+            n = sizes[ev.anchor]
+        else:
+            if kind is DocumentStartEvent:
+                stack.clear()
+            continue
+        total += n
+        if total > max_nodes:
+            raise error(f"{file}:{_line(ev)}: the document expands to more than {max_nodes} "
+                        f"nodes through its aliases (limit)")
+        if stack:
+            stack[-1][1] += n
+
+
+def _line(ev: yaml.Event) -> int:
+    return ev.start_mark.line + 1 if ev.start_mark is not None else 1
 
 
 def compose_yaml(text: str, file: str, *, error: ErrorType = ReadError,
