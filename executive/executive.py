@@ -1,5 +1,5 @@
 """The Executive: one object owning the components, the tree, the clock, the safety gate and the
-recorder, running the control cycle of DESIGN.md section 2.
+recorder, running the control cycle of docs/architecture.md.
 
 One cycle (``Executive.step``) calls, in order: the robot I/O (``hw.interfaces.RobotIO``; the
 adapters are in executive/robot_io.py) to **sense**; ``Perception`` (executive/perception.py) to
@@ -230,7 +230,7 @@ class Executive:
         """A mission-level blackboard key, ``default`` if unset."""
         return self.handle.get(key, default)
 
-    # --- the cycle (DESIGN.md section 2) ------------------------------------------------------
+    # --- the cycle (docs/architecture.md) ------------------------------------------------------
     def step(self) -> Status:
         """Run one control cycle and return the root's status after the tick."""
         if not self._started:

@@ -1,4 +1,4 @@
-"""Perception: the estimate and perceive phases of the control cycle (DESIGN.md section 2).
+"""Perception: the estimate and perceive phases of the control cycle (docs/architecture.md).
 
 ``Localisation`` turns odometry and the newest scan into a ``map`` pose with AMCL (which gates
 its own filter updates by ``update_min_d`` / ``update_min_a``). ``CostmapSchedule`` says when

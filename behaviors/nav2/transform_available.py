@@ -5,7 +5,7 @@ from __future__ import annotations
 from behaviors.base import FAILURE, SUCCESS, PortInformation, Status
 from behaviors.conditions.condition import Condition
 
-# The frames navbt's executive keeps (DESIGN.md section 7); it always knows how they relate.
+# The frames the executive keeps; it always knows how they relate.
 FRAMES = frozenset({"map", "odom", "base_link", "base_footprint", "laser"})
 
 
