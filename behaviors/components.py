@@ -32,9 +32,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from hw.interfaces import BaseEvents, BatteryState
 from navcore.costmap.costmap2d import Costmap2D
-from navcore.types import Path, Pose2D, Twist
+from navcore.types import BaseEvents, BatteryState, Path, Pose2D, Twist
 
 
 class RobotState(Protocol):

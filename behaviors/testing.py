@@ -17,13 +17,12 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from hw.interfaces import BaseEvents, BatteryState
 from navcore.clock import SimClock
 from navcore.costmap.costmap2d import Costmap2D
 from navcore.controllers.result import ControlResult, ControlStatus
 from navcore.params import Param, Parameters
 from navcore.planners.result import PlanReason, PlanResult
-from navcore.types import Path, Pose2D, Twist, angle_diff
+from navcore.types import BaseEvents, BatteryState, Path, Pose2D, Twist, angle_diff
 
 
 class FakeRobot:

@@ -7,28 +7,11 @@ they never block. Every message carries its ``stamp`` on the executive's ``Clock
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
-from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist
-
-
-@dataclass(frozen=True, slots=True)
-class BatteryState:
-    """Battery voltage (V), charge fraction 0..1 and whether it is charging."""
-
-    voltage: float
-    percentage: float
-    charging: bool = False
-
-
-@dataclass(frozen=True, slots=True)
-class BaseEvents:
-    """Contact-type events of a mobile base: bumpers, cliffs, wheel drops (True = triggered)."""
-
-    bumper: bool = False
-    cliff: bool = False
-    wheel_drop: bool = False
+# BaseEvents and BatteryState are messages and live in navcore.types (behaviors/ reads them and
+# must not import hw); they are re-exported here, where robot I/O code has always found them.
+from navcore.types import BaseEvents, BatteryState, Imu, LaserScan, Odometry, Pose2D, Twist
 
 
 @runtime_checkable

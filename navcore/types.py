@@ -186,6 +186,24 @@ class Imu:
     frame_id: str = "imu"
 
 
+@dataclass(frozen=True, slots=True)
+class BatteryState:
+    """Battery voltage (V), charge fraction 0..1 and whether it is charging."""
+
+    voltage: float
+    percentage: float
+    charging: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class BaseEvents:
+    """Contact-type events of a mobile base: bumpers, cliffs, wheel drops (True = triggered)."""
+
+    bumper: bool = False
+    cliff: bool = False
+    wheel_drop: bool = False
+
+
 @dataclass(slots=True)
 class Path:
     """nav_msgs/Path: ``poses`` is an (N, 3) float64 array of x, y, theta in ``frame_id``."""
