@@ -203,8 +203,9 @@ DWA_LIKE = (Param("path_distance_bias", 32.0, float, "weight of staying on the p
 
 
 @dataclass
-class World:
-    """Everything ``tree.setup`` needs, scripted; ``components()`` gives the kwargs."""
+class ScriptedWorld:
+    """Everything ``tree.setup`` needs, scripted (a test double, not the simulator's
+    ``hw.sim.SimWorld`` nor a scenario's ``executive.World``); ``components()`` gives the kwargs."""
 
     clock: SimClock = field(default_factory=SimClock)
     robot: FakeRobot = field(default_factory=FakeRobot)
@@ -235,15 +236,16 @@ class World:
 
 class NodeRig:
     """One node (or a small subtree) under test in a blackboard namespace of its own, set up with
-    ``components`` (a dict, or a ``World`` whose ``components()`` are read when a node is made):
-    ``node`` makes and sets it up, ``put`` / ``get`` reach its blackboard, ``tick`` ticks it
-    once. ``run`` ticks it until it finishes, the robot of a ``World`` following ``cmd_vel``."""
+    ``components`` (a dict, or a ``ScriptedWorld`` whose ``components()`` are read when a node is
+    made): ``node`` makes and sets it up, ``put`` / ``get`` reach its blackboard, ``tick`` ticks
+    it once. ``run`` ticks it until it finishes, the robot of a ``ScriptedWorld`` following
+    ``cmd_vel``."""
 
     _ids = itertools.count()
 
-    def __init__(self, components: dict[str, Any] | World | None = None) -> None:
+    def __init__(self, components: dict[str, Any] | ScriptedWorld | None = None) -> None:
         from py_trees.blackboard import Client
-        self.world = components if isinstance(components, World) else None
+        self.world = components if isinstance(components, ScriptedWorld) else None
         self.components = {} if components is None or self.world else dict(components)
         self.ns = f"/rig{next(self._ids)}"
         self.bb = Client(name="rig", namespace=self.ns)
@@ -275,10 +277,10 @@ class NodeRig:
         return node.status
 
     def run(self, node: Any, max_ticks: int = 2000) -> tuple[Any, int]:
-        """Tick until it finishes, applying ``cmd_vel`` to the World's robot each period:
+        """Tick until it finishes, applying ``cmd_vel`` to the ScriptedWorld's robot each period:
         (final status, ticks used)."""
         from py_trees.common import Status
-        assert self.world is not None, "run needs a World"
+        assert self.world is not None, "run needs a ScriptedWorld"
         for i in range(max_ticks):
             self.put("cmd_vel", Twist.zero())
             node.tick_once()
@@ -288,8 +290,8 @@ class NodeRig:
         return node.status, max_ticks
 
 
-def run_tree(tree: Any, world: World, max_ticks: int = 5000,
-             on_tick: Callable[[int, World], None] | None = None) -> tuple[Any, int]:
+def run_tree(tree: Any, world: ScriptedWorld, max_ticks: int = 5000,
+             on_tick: Callable[[int, ScriptedWorld], None] | None = None) -> tuple[Any, int]:
     """Tick a LoadedTree-like object (``tick() -> Twist``, ``status``) until it finishes.
 
     Returns (final status, ticks used). ``on_tick(i, world)`` runs before each tick (to change
@@ -306,8 +308,8 @@ def run_tree(tree: Any, world: World, max_ticks: int = 5000,
     return tree.status, max_ticks
 
 
-__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "World", "NodeRig",
-           "NoopPlanner", "NoopController", "run_tree", "straight_path", "DWA_LIKE"]
+__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "ScriptedWorld",
+           "NodeRig", "NoopPlanner", "NoopController", "run_tree", "straight_path", "DWA_LIKE"]
 
 
 class NoopPlanner:

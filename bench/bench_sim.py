@@ -26,7 +26,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from hw.sim import Simulator, World  # noqa: E402
+from hw.sim import Simulator, SimWorld  # noqa: E402
 from navcore.clock import SimClock  # noqa: E402
 from navcore.maps import load_map  # noqa: E402
 from navcore.synthetic_maps import office_map  # noqa: E402
@@ -41,14 +41,14 @@ LASER = {"preset": "urg04lx", "angle_min": -2.35619449, "angle_max": 2.35619449,
          "mount": [0.15, 0.0, 0.0]}
 
 
-def load_world() -> tuple[World, str]:
+def load_world() -> tuple[SimWorld, str]:
     if WILLOW.exists():
         # unknown space is outside the building: solid, so the wanderer stays inside
-        return World(load_map(WILLOW), unknown_is_obstacle=True), "willow_garage"
-    return World(office_map(1000), unknown_is_obstacle=True), "office_1000"
+        return SimWorld(load_map(WILLOW), unknown_is_obstacle=True), "willow_garage"
+    return SimWorld(office_map(1000), unknown_is_obstacle=True), "office_1000"
 
 
-def start_pose(world: World) -> Pose2D:
+def start_pose(world: SimWorld) -> Pose2D:
     """The free cell with the most clearance: room to wander."""
     clear = world.clearance.astype(np.float64)
     clear[world.grid.data != 0] = 0
@@ -68,14 +68,15 @@ def wander(scan_ranges: np.ndarray, n: int) -> Twist:
     return Twist(min(0.6, 0.4 * front), 0.0, 0.0)
 
 
-def _simulator(world: World, imu: bool, seed: int) -> tuple[Simulator, SimClock]:
+def _simulator(world: SimWorld, imu: bool, seed: int) -> tuple[Simulator, SimClock]:
     clock = SimClock()
     robot = {"laser": LASER, "imu": {"enabled": imu}, "odom_rate": 50.0}
     return Simulator(world, robot, clock, np.random.default_rng(seed), start=start_pose(world)), \
         clock
 
 
-def run(world: World, seconds: float, imu: bool, seed: int = 0) -> tuple[float, float, Simulator]:
+def run(world: SimWorld, seconds: float, imu: bool, seed: int = 0
+        ) -> tuple[float, float, Simulator]:
     """(CPU factor, wall factor, the simulator) of one wanderer. The wanderer drives a first run
     and its commands are recorded; a second simulator with the same seed then replays them under
     the timers (one seed, one trace: checked), so the figure holds the simulator's work only:

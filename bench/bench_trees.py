@@ -29,10 +29,10 @@ def load_ms(path: str, repeats: int = 20) -> float:
 
 
 def tick_us(path: str, ticks: int = 3000) -> float:
-    from behaviors.testing import NoopController, NoopPlanner, World
+    from behaviors.testing import NoopController, NoopPlanner, ScriptedWorld
     from executive.tree_loader import load_tree
     from navcore.types import Pose2D
-    world = World(planner=NoopPlanner(), controller=NoopController())
+    world = ScriptedWorld(planner=NoopPlanner(), controller=NoopController())
     tree = load_tree(path, namespace=f"/tick_{os.path.basename(path).split('.')[0]}")
     tree.setup(**world.components())
     tree.set("goal", Pose2D(1000.0, 0.0, 0.0))

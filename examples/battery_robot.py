@@ -17,7 +17,7 @@ import numpy as np
 
 from executive import MissionResult, Pose2D, load_config, open_mission, parse_tree
 from hw.interfaces import BatteryState
-from hw.sim import Simulator, World
+from hw.sim import Simulator, SimWorld
 from navcore.clock import SimClock
 from navcore.synthetic_maps import ascii_map
 from navcore.types import Odometry, Twist
@@ -92,7 +92,7 @@ def main(drain: float = 0.2, seed: int = 0) -> tuple[MissionResult, BatteryRobot
     config = load_config()
     clock = SimClock()          # the simulator stamps its messages with the mission's clock
     start = Pose2D(1.0, 1.2)
-    sim = Simulator(World(ROOM, []), config.ns("sim"), clock, np.random.default_rng(seed),
+    sim = Simulator(SimWorld(ROOM, []), config.ns("sim"), clock, np.random.default_rng(seed),
                     start=start)
     robot = BatteryRobot(sim, drain)
     with open_mission(parse_tree(TREE), config, ROOM, start, io=robot, clock=clock,

@@ -137,7 +137,7 @@ def simulator(config: RobotConfig, grid: OccupancyGrid, start: Pose2D, world: Wo
               clock: Clock, rng: np.random.Generator) -> Any:
     """The simulator (hw.sim) on ``grid`` with the world's objects, moving obstacles and faults."""
     from hw.sim import Box, Circle, MovingObstacle, Simulator
-    from hw.sim import World as SimWorld
+    from hw.sim import SimWorld
     objects: list[Any] = []
     for i, s in enumerate(world.objects):
         if s.kind == "box":

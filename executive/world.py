@@ -1,7 +1,8 @@
 """What a simulated world holds beyond the map: shapes, moving obstacles, phantoms, faults.
 
 Scenarios describe these and the mission wiring puts them into the simulator; both import them
-from here, so neither imports the other.
+from here, so neither imports the other. ``World`` is the public one (``executive.World``); the
+simulator builds its own ``hw.sim.SimWorld`` (map plus solid objects) from it.
 """
 
 from __future__ import annotations

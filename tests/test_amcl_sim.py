@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from hw.sim import Simulator, World
+from hw.sim import Simulator, SimWorld
 from navcore.clock import SimClock
 from navcore.localization import Amcl
 from navcore.synthetic_maps import ascii_map
@@ -57,7 +57,7 @@ def spin_run(params: dict, kidnap_to: Pose2D | None, seconds: float, seed: int =
     scan."""
     clock = SimClock()
     start = Pose2D(1.5, 1.5, 0.0)
-    sim = Simulator(World(FLOOR), ROBOT, clock, np.random.default_rng(seed), start=start)
+    sim = Simulator(SimWorld(FLOOR), ROBOT, clock, np.random.default_rng(seed), start=start)
     amcl = Amcl(FLOOR, params, np.random.default_rng(seed + 100))
     amcl.set_initial_pose(start, np.diag([0.02, 0.02, 0.01]))
     errs = []
@@ -109,7 +109,7 @@ def cloud_spread(params: dict, seed: int, laser: bool) -> float:
     update points, with or without the laser."""
     clock = SimClock()
     start = Pose2D(8.6, 0.8, 0.0)
-    sim = Simulator(World(FLOOR), ROBOT, clock, np.random.default_rng(seed), start=start)
+    sim = Simulator(SimWorld(FLOOR), ROBOT, clock, np.random.default_rng(seed), start=start)
     amcl = Amcl(FLOOR, dict(params, recovery_alpha_slow=0.0, recovery_alpha_fast=0.0),
                 np.random.default_rng(seed + 1))
     amcl.set_initial_pose(start, np.diag([0.02, 0.02, 0.01]))

@@ -11,8 +11,8 @@ from py_trees.common import Status
 
 from navcore.error_codes import (BackUpError, ControllerError, DriveOnHeadingError, PlannerError,
                                  RecoveryError, SpinError)
-from behaviors.testing import (FakeCostmap, NodeRig, ScriptedController, ScriptedPlanner, World,
-                               straight_path)
+from behaviors.testing import (FakeCostmap, NodeRig, ScriptedController, ScriptedPlanner,
+                               ScriptedWorld, straight_path)
 from navcore.planners.result import PlanReason, PlanResult
 from navcore.types import Path, Pose2D, Twist
 
@@ -20,14 +20,15 @@ S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
 
 
 class Rig(NodeRig):
-    """One node, a World (a fresh one by default), and the blackboard of its namespace."""
+    """One node, a ScriptedWorld (a fresh one by default), and the blackboard of its namespace."""
 
-    def __init__(self, world: World | None = None):
-        super().__init__(world or World())
+    def __init__(self, world: ScriptedWorld | None = None):
+        super().__init__(world or ScriptedWorld())
 
 
 def test_compute_path_to_pose_writes_path_or_error_code():
-    rig = Rig(World(planner=ScriptedPlanner(fail_calls=[2], reason=PlanReason.GOAL_OCCUPIED)))
+    rig = Rig(ScriptedWorld(planner=ScriptedPlanner(fail_calls=[2],
+                                                    reason=PlanReason.GOAL_OCCUPIED)))
     rig.put("goal", Pose2D(2.0, 1.0, 0.0))
     node = rig.node("ComputePathToPose")
     node.tick_once()
@@ -111,12 +112,12 @@ def test_follow_path_reaches_goal_and_takes_new_paths():
 
 def test_follow_path_failure_tolerance_and_codes():
     ctl = ScriptedController(fail_calls=range(1, 11))   # 10 bad calls = 0.5 s
-    rig = Rig(World(controller=ctl))
+    rig = Rig(ScriptedWorld(controller=ctl))
     rig.put("path", straight_path(Pose2D(), Pose2D(1.0, 0.0, 0.0)))
     status, _ = rig.run(rig.node("FollowPath", failure_tolerance=1.0))
     assert status == S                                  # within its patience
     ctl2 = ScriptedController(fail_always=True)
-    rig2 = Rig(World(controller=ctl2))
+    rig2 = Rig(ScriptedWorld(controller=ctl2))
     rig2.put("path", straight_path(Pose2D(), Pose2D(1.0, 0.0, 0.0)))
     status, n = rig2.run(rig2.node("FollowPath", failure_tolerance=1.0))
     assert status == F and n == 21
@@ -135,7 +136,7 @@ def test_follow_path_progress_checker():
             res = super().compute_velocity(pose, velocity, path)
             return type(res)(Twist(0.01, 0.0, 0.0), res.status)   # 1 cm/s: no progress
 
-    rig = Rig(World(controller=Crawler()))
+    rig = Rig(ScriptedWorld(controller=Crawler()))
     rig.put("path", straight_path(Pose2D(), Pose2D(3.0, 0.0, 0.0)))
     status, n = rig.run(rig.node("FollowPath", required_movement_radius=0.5,
                                  movement_time_allowance=2.0))
@@ -165,14 +166,14 @@ def test_spin_negative_direction_and_collision_ahead():
 
     # lethal once the robot faces beyond +0.5 rad
     blocked = FakeCostmap(footprint=lambda x, y, t: 254 if t > 0.5 else 0)
-    rig2 = Rig(World(local_costmap=blocked))
+    rig2 = Rig(ScriptedWorld(local_costmap=blocked))
     status, _ = rig2.run(rig2.node("Spin", spin_dist=1.57))
     assert status == F and rig2.get("spin_error_code") == SpinError.COLLISION_AHEAD
     assert rig2.world.robot.pose().theta < 0.5
 
 
 def test_spin_times_out():
-    class Stuck(World):
+    class Stuck(ScriptedWorld):
         def step(self, cmd):
             self.clock.advance(self.control_period)          # wheels slip: no motion
 
@@ -187,11 +188,11 @@ def test_backup_drives_backwards_and_stops_at_obstacle():
     p = rig.world.robot.pose()
     assert status == S and p.x == pytest.approx(-0.3, abs=0.01) and abs(p.y) < 1e-9
     wall = FakeCostmap(footprint=lambda x, y, t: 254 if x < -0.2 else 0)
-    rig2 = Rig(World(local_costmap=wall))
+    rig2 = Rig(ScriptedWorld(local_costmap=wall))
     status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
     assert status == F and rig2.get("backup_error_code") == BackUpError.COLLISION_AHEAD
     assert rig2.world.robot.pose().x > -0.2
-    rig3 = Rig(World(local_costmap=wall))
+    rig3 = Rig(ScriptedWorld(local_costmap=wall))
     status, _ = rig3.run(rig3.node("BackUp", backup_dist=0.5, backup_speed=0.15,
                                    disable_collision_checks=True))
     assert status == S
@@ -213,7 +214,7 @@ def test_wait_on_sim_clock():
 
 
 def test_clear_costmap_nodes_call_the_right_maps():
-    w = World()
+    w = ScriptedWorld()
     rig = Rig(w)
     w.robot.teleport(Pose2D(1.0, 2.0, 0.0))
     for node_type, ports in [("ClearEntireCostmap", {"costmap": "local"}),
@@ -241,7 +242,7 @@ def _tight_spot(x, y, t):
 
 def test_temporary_goal_finds_the_opening_and_drives_there():
     cm = FakeCostmap(footprint=_tight_spot)
-    rig = Rig(World(local_costmap=cm))
+    rig = Rig(ScriptedWorld(local_costmap=cm))
     node = rig.node("TemporaryGoal", search_radius=1.5, min_distance=0.4)
     status, _ = rig.run(node)
     goal = rig.get("temporary_goal")
@@ -252,15 +253,15 @@ def test_temporary_goal_finds_the_opening_and_drives_there():
 
 def test_temporary_goal_fails_without_free_pose():
     cm = FakeCostmap(footprint=lambda x, y, t: 254)
-    rig = Rig(World(local_costmap=cm))
+    rig = Rig(ScriptedWorld(local_costmap=cm))
     status, _ = rig.run(rig.node("TemporaryGoal"))
     assert status == F and rig.get("temporary_goal_error_code") == RecoveryError.NO_FREE_POSE
-    unreachable = Rig(World(planner=ScriptedPlanner(fail_always=True)))
+    unreachable = Rig(ScriptedWorld(planner=ScriptedPlanner(fail_always=True)))
     status, n = unreachable.run(unreachable.node("TemporaryGoal", max_plans_per_tick=4,
                                                  arc_first=False))
     assert status == F and unreachable.world.planner.calls == 6 * 16  # every candidate (6 rings 0.4..1.4 m) tried
     # the same world, arcs first: a free pose one clear arc away needs no planner at all
-    arcs = Rig(World(planner=ScriptedPlanner(fail_always=True)))
+    arcs = Rig(ScriptedWorld(planner=ScriptedPlanner(fail_always=True)))
     node = arcs.node("TemporaryGoal", max_plans_per_tick=4)
     status, n = arcs.run(node)
     goal = arcs.get("temporary_goal")
@@ -311,7 +312,7 @@ def test_reinitialize_global_localization():
         def global_localization(self):
             Loc.calls += 1
 
-    w = World()
+    w = ScriptedWorld()
     rig = Rig(w)
     node = rig.node("ReinitializeGlobalLocalization")
     node.tick_once()
@@ -322,7 +323,7 @@ def test_reinitialize_global_localization():
 
 
 def test_temporary_goal_and_back_off_give_up_without_progress():
-    class Stuck(World):
+    class Stuck(ScriptedWorld):
         def step(self, cmd):
             self.clock.advance(self.control_period)          # held in place (contact, stall)
 
@@ -339,12 +340,12 @@ def test_temporary_goal_and_back_off_give_up_without_progress():
 def test_motion_refuses_to_enter_inscribed_cost_but_may_leave_it():
     # inscribed band for x < -0.2: backing into it from free space is refused
     band = FakeCostmap(footprint=lambda x, y, t: 253 if x < -0.2 else 0)
-    rig = Rig(World(local_costmap=band))
+    rig = Rig(ScriptedWorld(local_costmap=band))
     status, _ = rig.run(rig.node("BackUp", backup_dist=0.5, backup_speed=0.15))
     assert status == F and rig.get("backup_error_code") == BackUpError.COLLISION_AHEAD
     # already in inscribed cost (next to a wall): backing out through it is allowed
     tight = FakeCostmap(footprint=lambda x, y, t: 253 if x > -0.3 else 0)
-    rig2 = Rig(World(local_costmap=tight))
+    rig2 = Rig(ScriptedWorld(local_costmap=tight))
     status, _ = rig2.run(rig2.node("BackUp", backup_dist=0.5, backup_speed=0.15))
     assert status == S and rig2.world.robot.pose().x == pytest.approx(-0.5, abs=0.01)
 
@@ -352,7 +353,7 @@ def test_motion_refuses_to_enter_inscribed_cost_but_may_leave_it():
 def test_temporary_goal_prefers_gentle_arcs_and_drives_itself_when_the_controller_refuses():
     # A wall along y = -0.3 (the robot's right side); the controller refuses to move at all.
     wall = FakeCostmap(footprint=lambda x, y, t: 254 if y < -0.3 else (253 if y < -0.1 else 0))
-    w = World(local_costmap=wall, controller=ScriptedController(fail_always=True))
+    w = ScriptedWorld(local_costmap=wall, controller=ScriptedController(fail_always=True))
     rig = Rig(w)
     node = rig.node("TemporaryGoal", search_radius=1.0, min_distance=0.6)
     status, _ = rig.run(node)
@@ -361,7 +362,7 @@ def test_temporary_goal_prefers_gentle_arcs_and_drives_itself_when_the_controlle
     assert abs(goal.y) < 0.3 and abs(goal.x) >= 0.55          # ahead or behind, not abeam
     assert w.robot.pose().distance_to(goal) <= 0.15
     assert all(q.y >= -0.1 - 1e-9 for q in w.robot.trajectory)   # never into the wall's band
-    refuse = Rig(World(controller=ScriptedController(fail_always=True)))
+    refuse = Rig(ScriptedWorld(controller=ScriptedController(fail_always=True)))
     status, _ = refuse.run(refuse.node("TemporaryGoal", escape_speed=0.0))
     assert status == F and refuse.get("temporary_goal_error_code") == RecoveryError.COLLISION_AHEAD
 
@@ -408,7 +409,7 @@ def test_tight_spot_motion_is_judged_by_the_body_not_the_grid():
     # a wall 2 cm from the robot's right side (its face at y = -0.25, the body's at -0.23):
     # the padded footprint reaches into the wall's cells, so on the grid every pose collides
     cm = _WallCostmap(face=-0.25)
-    rig = Rig(World(local_costmap=cm))
+    rig = Rig(ScriptedWorld(local_costmap=cm))
     rig.world.robot.teleport(Pose2D(0.0, -0.01, 0.0))
     assert cm.footprint_cost(0.0, -0.01, 0.0) == 254
     status, _ = rig.run(rig.node("BackUp", backup_dist=0.5, backup_speed=0.15))
@@ -417,7 +418,7 @@ def test_tight_spot_motion_is_judged_by_the_body_not_the_grid():
     status, _ = rig.run(rig.node("Spin", spin_dist=1.0))
     assert status == F and rig.get("spin_error_code") == SpinError.COLLISION_AHEAD
     # a temporary goal: away from the wall on a gentle arc, the body never into the wall
-    w = World(local_costmap=cm, controller=ScriptedController(fail_always=True))
+    w = ScriptedWorld(local_costmap=cm, controller=ScriptedController(fail_always=True))
     w.robot.teleport(Pose2D(0.0, -0.01, 0.0))
     rig2 = Rig(w)
     node = rig2.node("TemporaryGoal", search_radius=1.5, min_distance=0.6)
@@ -434,14 +435,14 @@ def test_back_off_goes_on_to_the_first_free_pose_of_the_trail():
     # the last 0.55 m of the trail is in inscribed cost (a dead end): backing off 0.3 m would
     # stop half-way out, so the target moves back to the first free pose (x = 0.45)
     bay = FakeCostmap(footprint=lambda x, y, t: 253 if x > 0.45 + 1e-9 else 0)
-    rig = Rig(World(local_costmap=bay))
+    rig = Rig(ScriptedWorld(local_costmap=bay))
     rig.put("pose_history", [Pose2D(0.05 * i, 0.0, 0.0) for i in range(21)])
     rig.world.robot.teleport(Pose2D(1.0, 0.0, 0.0))
     status, _ = rig.run(rig.node("BackOffToPreviousPose", distance=0.3, speed=0.15))
     assert status == S and rig.world.robot.pose().x == pytest.approx(0.45, abs=0.08)
     assert rig.world.robot.pose().x < 0.53
     # no further than max_distance, even if still in inscribed cost there
-    rig2 = Rig(World(local_costmap=bay))
+    rig2 = Rig(ScriptedWorld(local_costmap=bay))
     rig2.put("pose_history", [Pose2D(0.05 * i, 0.0, 0.0) for i in range(21)])
     rig2.world.robot.teleport(Pose2D(1.0, 0.0, 0.0))
     status, _ = rig2.run(rig2.node("BackOffToPreviousPose", distance=0.3, max_distance=0.4,

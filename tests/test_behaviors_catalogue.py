@@ -10,7 +10,7 @@ from py_trees.common import Status
 
 from behaviors.base import Control, DecoratorNode, make, node_classes
 from behaviors.registry import catalogue
-from behaviors.testing import World
+from behaviors.testing import ScriptedWorld
 from navcore.types import Pose2D
 
 _ns = itertools.count()
@@ -51,7 +51,7 @@ def test_every_node_builds_sets_up_and_ticks(name):
         kwargs["child"] = StatusQueue("c", [Status.SUCCESS], Status.SUCCESS)
     ns = f"/cat{next(_ns)}"
     node = make(name, namespace=ns, port_values=REQUIRED.get(name, {}), **kwargs)
-    world = World()
+    world = ScriptedWorld()
     for m in node.iterate():
         m.setup(**world.components())
     from py_trees.blackboard import Client

@@ -13,7 +13,7 @@ from py_trees.common import Status
 
 from behaviors.base import make
 from behaviors.btcpp.scripting import ScriptError, compile_script, namespace_resolver
-from behaviors.testing import World
+from behaviors.testing import ScriptedWorld
 from executive.tree_loader import TreeLoadError, load_tree, load_xml, to_xml, to_yaml
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
@@ -84,7 +84,7 @@ def write(tmp_path, name, text):
 def loaded(tmp_path, text, name="t.yaml"):
     p = write(tmp_path, name, text)
     t = (load_xml if name.endswith(".xml") else load_tree)(p, namespace=f"/bt{next(_ns)}")
-    w = World()
+    w = ScriptedWorld()
     t.setup(**w.components())
     return t, w
 
@@ -175,7 +175,7 @@ def test_while_halts_a_running_node(tmp_path):
 
 def node(node_type, **kw):
     n = make(node_type, namespace=f"/bn{next(_ns)}", **kw)
-    w = World()
+    w = ScriptedWorld()
     for m in n.iterate():
         if hasattr(m, "setup"):
             m.setup(**w.components())

@@ -17,7 +17,7 @@ import pytest
 from hw.devices import open_devices, poll_devices
 from hw.drivers.kobuki import KobukiDriver
 from hw.drivers.urg04lx import Urg04lxDriver
-from hw.sim import Box, Simulator, World
+from hw.sim import Box, Simulator, SimWorld
 from hw.sim.emulated_devices import SimDevices, lockstep_start
 from navcore.clock import SimClock
 from navcore.synthetic_maps import ascii_map
@@ -36,7 +36,7 @@ def _bench(tag: str, objects=(), start=Pose2D(1.0, 1.5, 0.0), **robot):
     cfg = {"odom_alpha1": 0.0, "odom_alpha2": 0.0, "odom_alpha3": 0.0, "odom_alpha4": 0.0,
            "laser": {"preset": "urg04lx", "range_noise_stddev": 0.0, "mount": [0.1, 0.0, 0.0]}}
     cfg.update(robot)
-    sim = Simulator(World(ascii_map(ROOM), list(objects)), cfg, clock,
+    sim = Simulator(SimWorld(ascii_map(ROOM), list(objects)), cfg, clock,
                     np.random.default_rng(3), start=start)
     bridge = SimDevices(sim, np.random.default_rng(4), tag)
     urls = bridge.plug()
@@ -152,7 +152,7 @@ def test_frozen_laser_repeats_its_ranges_under_fresh_stamps() -> None:
 
 
 def test_simulator_without_a_laser_is_refused() -> None:
-    sim = Simulator(World(ascii_map(ROOM)), {"laser": {"enabled": False}}, SimClock(),
+    sim = Simulator(SimWorld(ascii_map(ROOM)), {"laser": {"enabled": False}}, SimClock(),
                     np.random.default_rng(0), start=Pose2D(1.0, 1.5, 0.0))
     with pytest.raises(ValueError, match="no laser"):
         SimDevices(sim, np.random.default_rng(0))
@@ -167,12 +167,12 @@ def test_hardware_mode_names_the_choices() -> None:
 
 
 def _run_scenario_through_drivers():
-    from executive.mission import World as MissionWorld
+    from executive.world import World
     from executive.mission import build_mission, run_mission
     from executive.scenario import load_scenario, scenario_config
     s = load_scenario(SCENARIO)
     m = build_mission(str(TREE), scenario_config(s), s.grid, s.start,
-                      world=MissionWorld(s.objects, s.moving, s.phantoms, s.faults),
+                      world=World(s.objects, s.moving, s.phantoms, s.faults),
                       seed=s.seed, hardware="emulated")
     result = run_mission(m, s.goals, s.time_limit)
     return s, m, result
@@ -240,12 +240,12 @@ def test_catalogue_scenario_runs_from_the_cli(scenario_run, capsys) -> None:
 def test_closing_the_emulated_robot_unplugs_it_for_good(scenario_run) -> None:
     """After ``io.close()`` the emulators are gone from the registry and a late stop command
     (e.g. an executive shutdown) does not open the port again."""
-    from executive.mission import World as MissionWorld
+    from executive.world import World
     from executive.mission import build_mission
     from executive.scenario import scenario_config
     from hw.emulators import lookup
     s, _, _ = scenario_run
-    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=MissionWorld(),
+    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=World(),
                       seed=1, hardware="emulated")
     io = m.executive.io
     ident = io.bridge.ident
@@ -259,14 +259,14 @@ def test_closing_the_emulated_robot_unplugs_it_for_good(scenario_run) -> None:
 def test_scenario_through_noisy_serial_lines_from_the_config() -> None:
     """``robot.devices`` fault options on ``sim`` ports reach the emulated wires: corrupted and
     garbage bytes are rejected by the drivers' checks and the scenario still succeeds."""
-    from executive.mission import World as MissionWorld
+    from executive.world import World
     from executive.mission import build_mission, run_mission
     from executive.scenario import load_scenario, scenario_config
     s = load_scenario(SCENARIO)
     s.robot["devices"] = {"base": "kobuki://sim?corrupt=0.0002",
                           "laser": {"url": "urg04lx://sim?corrupt=0.0002&garbage=0.05",
                                     "params": {"cluster": 2}}}
-    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=MissionWorld(),
+    m = build_mission(str(TREE), scenario_config(s), s.grid, s.start, world=World(),
                       seed=s.seed, hardware="emulated")
     try:
         result = run_mission(m, s.goals, s.time_limit)

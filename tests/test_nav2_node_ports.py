@@ -13,7 +13,7 @@ import pytest
 from py_trees.common import Status
 
 from behaviors.base import make
-from behaviors.testing import World
+from behaviors.testing import ScriptedWorld
 from navcore.path_ops import TrackingFeedback
 from navcore.route import find_route, load_route_graph
 from navcore.types import Path, Pose2D, Twist
@@ -37,10 +37,10 @@ class Dummy(py_trees.behaviour.Behaviour):
         return self.next
 
 
-def node(node_type: str, world: World | None = None, **kwargs):
+def node(node_type: str, world: ScriptedWorld | None = None, **kwargs):
     ns = f"/n2p{next(_ns)}"
     n = make(node_type, namespace=ns, **kwargs)
-    comps = (world or World()).components()
+    comps = (world or ScriptedWorld()).components()
     for m in n.iterate():
         if hasattr(m, "setup"):
             m.setup(**comps)
@@ -124,7 +124,7 @@ def test_round_robin_wrap_around_disabled_main():
 def test_rate_controller_returns_running_while_throttled():
     """test/plugins/decorator/test_rate_controller.cpp: the child is ticked at most hz times
     a second (the test sleeps; here the clock advances) and the node is RUNNING between."""
-    w = World()
+    w = ScriptedWorld()
     child = Dummy()
     rc = node("RateController", world=w, child=child, hz=10.0)
     seen = []
@@ -192,7 +192,7 @@ def test_globally_updated_goal():
 
 def test_path_expiring_timer():
     """test/plugins/condition/test_path_expiring_timer.cpp test_behavior (sleeps -> clock)."""
-    w = World()
+    w = ScriptedWorld()
     n = node("PathExpiringTimer", world=w)
     assert tick(n) == F
     for i in range(20):
@@ -238,7 +238,7 @@ def test_would_a_route_recovery_help():
 def test_is_stopped():
     """test/plugins/condition/test_is_stopped.cpp (kilted): RUNNING while stopped for less
     than duration_stopped, then SUCCESS; FAILURE when moving."""
-    w = World()
+    w = ScriptedWorld()
     n = node("IsStopped", world=w, velocity_threshold=0.1, duration_stopped=500)
     assert tick(n) == R
     w.clock.advance(0.6)
@@ -250,7 +250,7 @@ def test_is_stopped():
 def test_is_goal_nearby_with_pose_search_distance():
     """test/plugins/condition/test_is_goal_nearby.cpp: remaining length from the closest pose
     against proximity_threshold; max_robot_pose_search_dist bounds the search."""
-    w = World()
+    w = ScriptedWorld()
     n = node("IsGoalNearby", world=w, proximity_threshold=1.0, max_robot_pose_search_dist=2.0)
     bb_set(n, "path", path_of([0.1 * i for i in range(51)]))     # 5 m
     assert tick(n) == F
@@ -309,7 +309,7 @@ def test_truncate_path_local_pruning_ignores_a_later_loop():
 def test_remove_passed_goals():
     """test/plugins/action/test_remove_passed_goals_action.cpp test_tick and the waypoint
     statuses case."""
-    w = World()
+    w = ScriptedWorld()
     w.robot.teleport(Pose2D(0.25, 0.0, 0.0))
     goals = [Pose2D(0.0, 0.0), Pose2D(0.5, 0.0), Pose2D(1.0, 0.0), Pose2D(2.0, 0.0)]
     n = node("RemovePassedGoals", world=w, radius=0.5, input_goals="{goals}",
@@ -359,7 +359,7 @@ def test_goal_list_actions():
     assert tick(n) == S and bb_get(n, "out") == goals[:2]
     bb_set(n, "gs", [])
     assert tick(n) == F
-    w = World()
+    w = ScriptedWorld()
     w.robot.teleport(Pose2D(1.0, 2.0, 0.5))
     n = node("GetCurrentPose", world=w, current_pose="{p}")
     assert tick(n) == S and bb_get(n, "p") == Pose2D(1.0, 2.0, 0.5)
@@ -389,7 +389,7 @@ def test_cancel_nodes_stop_the_base():
 def test_wait_reports_success_codes():
     """test/plugins/action/test_wait_action.cpp (kilted+ outputs): error_code_id 0 and an
     empty error_msg once the wait is over."""
-    w = World()
+    w = ScriptedWorld()
     n = node("Wait", world=w, wait_duration=0.1, error_code_id="{code}", error_msg="{msg}")
     assert tick(n) == R
     w.clock.advance(0.1)
@@ -404,7 +404,7 @@ def test_compute_route_and_extract_nodes():
     route graph shipped with the office map: ids and poses, path along the nodes."""
     from pathlib import Path as FsPath
     graph = load_route_graph(FsPath(__file__).resolve().parent.parent / ROUTE_GRAPH)
-    w = World()
+    w = ScriptedWorld()
     comps = dict(w.components(), route_graph=graph, route_path_density=0.05)
     n = make("ComputeRoute", namespace="/cr", start_id=0, goal_id=15, path="{p}",
              route="{r}", error_code_id="{e}")
@@ -502,7 +502,7 @@ def test_recovery_node_running_and_retries():
 def test_follow_path_writes_tracking_feedback_when_wired():
     """test/plugins/action/test_follow_path_action.cpp (main): tracking_feedback is an output
     of FollowPath; here it carries the cross-track and heading errors each tick."""
-    w = World()
+    w = ScriptedWorld()
     w.robot.teleport(Pose2D(0.5, 0.2, 0.1))
     n = node("FollowPath", world=w, path="{path}", tracking_feedback="{fb}")
     bb_set(n, "path", path_of([0.1 * i for i in range(31)]))
@@ -521,7 +521,7 @@ def test_follow_path_writes_tracking_feedback_when_wired():
 def test_distance_controller():
     """test/plugins/decorator/test_distance_controller.cpp test_behavior (distance 1.0): the
     child at every metre, RUNNING in between."""
-    w = World()
+    w = ScriptedWorld()
     child = Dummy()
     d = node("DistanceController", world=w, child=child, distance=1.0)
     assert tick(d) == S
@@ -570,7 +570,7 @@ def test_goal_updated():
 def test_time_expired():
     """test/plugins/condition/test_time_expired.cpp test_behavior (seconds 1.0, sleeps of
     0.5 s -> clock)."""
-    w = World()
+    w = ScriptedWorld()
     n = node("TimeExpired", world=w, seconds=1.0)
     assert tick(n) == F
     for i in range(20):
@@ -580,7 +580,7 @@ def test_time_expired():
 
 def test_distance_traveled():
     """test/plugins/condition/test_distance_traveled.cpp test_behavior (distance 1.0)."""
-    w = World()
+    w = ScriptedWorld()
     n = node("DistanceTraveled", world=w, distance=1.0)
     assert tick(n) == F
     for i in range(1, 21):
@@ -592,7 +592,7 @@ def test_battery_conditions():
     """test/plugins/condition/test_is_battery_low.cpp (percentage and voltage) and
     test_is_battery_charging.cpp, with the robot's battery state instead of a topic."""
     from hw.interfaces import BatteryState
-    w = World()
+    w = ScriptedWorld()
     low = node("IsBatteryLow", world=w, min_battery=0.5)
     volts = node("IsBatteryLow", world=w, min_battery=5.0, is_voltage=True)
     charging = node("IsBatteryCharging", world=w)
@@ -646,7 +646,7 @@ def test_initial_pose_received_and_transform_available():
 def test_navigate_through_poses_subtree():
     """test/plugins/action/test_navigate_through_poses_action.cpp: the goals are passed in
     order and the node succeeds at the last (here the subtree runs with scripted components)."""
-    w = World()
+    w = ScriptedWorld()
     n = node("NavigateThroughPoses", world=w, replan_hz=1.0)
     bb_set(n, "goals", [Pose2D(1.0, 0.0, 0.0), Pose2D(1.5, 1.0, 0.0)])
     status = None

@@ -13,7 +13,7 @@ from py_trees.blackboard import Client
 from py_trees.common import Access, Status
 
 from behaviors.base import make
-from behaviors.testing import FakeCostmap, World
+from behaviors.testing import FakeCostmap, ScriptedWorld
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.costmap.costmap2d import _fill_convex_cells, shift_grid
 from navcore.costmap.observed_space import (NEVER, ObservedSpace, first_unobserved, free_body,
@@ -306,7 +306,7 @@ class GridWorld:
         cm.footprint = self._cost
         self.footprint = np.asarray(footprint, float)
         self.space = ObservedSpace.around(RES, 6.0, 6.0, footprint)
-        self.world = World(local_costmap=cm, global_costmap=cm)
+        self.world = ScriptedWorld(local_costmap=cm, global_costmap=cm)
         self.world.robot.teleport(pose)
         self.ns = f"/obs{next(_ns)}"
         self.bb = Client(name="obs", namespace=self.ns)

@@ -12,7 +12,7 @@ from py_trees.blackboard import Client
 from py_trees.common import Access, Status
 
 from behaviors.base import make
-from behaviors.testing import FakeCostmap, FakeRobot, World, straight_path
+from behaviors.testing import FakeCostmap, FakeRobot, ScriptedWorld, straight_path
 from navcore.controllers.result import ControlResult, ControlStatus
 from navcore.controllers.rotation_shim import ShimParams, heading_error, turn_command
 from navcore.error_codes import ControllerError
@@ -67,7 +67,7 @@ def test_heading_error_aims_at_the_path_ahead_and_leaves_a_near_goal_alone():
 
 class Rig:
     def __init__(self, start: Pose2D, costmap: FakeCostmap | None = None):
-        self.world = World(robot=FakeRobot(start), controller=None,
+        self.world = ScriptedWorld(robot=FakeRobot(start), controller=None,
                            local_costmap=costmap or FakeCostmap())
         self.controller = ReversingController()
         self.ns = f"/shim{next(_ns)}"

@@ -404,11 +404,11 @@ def test_cli_seeds_tally_json_and_junit(tmp_path, capsys):
 
 
 def test_simulator_end_faults():
-    from hw.sim import Simulator, World
+    from hw.sim import Simulator, SimWorld
     from navcore.clock import SimClock
     from navcore.maps import OccupancyGrid
     clock = SimClock()
-    sim = Simulator(World(OccupancyGrid(np.zeros((20, 20), np.int16), 0.1)), {}, clock,
+    sim = Simulator(SimWorld(OccupancyGrid(np.zeros((20, 20), np.int16), 0.1)), {}, clock,
                     np.random.default_rng(0), start=Pose2D(1.0, 1.0, 0.0))
     sim.add_fault({"kind": "laser_dropout", "start": 0.5})
     sim.add_fault({"kind": "stuck_wheel", "start": 0.0, "duration": 9.0})

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hw.interfaces import Base, ImuSensor, Laser
-from hw.sim import Circle, MovingObstacle, Pole, Polygon, Simulator, World
+from hw.sim import Circle, MovingObstacle, Pole, Polygon, Simulator, SimWorld
 from navcore.clock import SimClock
 from navcore.maps import OccupancyGrid
 from navcore.types import Pose2D, Twist
@@ -21,9 +21,9 @@ FAST = {"acc_lim_x": 1e6, "acc_lim_y": 1e6, "acc_lim_theta": 1e6, "max_vel_x": 5
         "laser": {"enabled": False}, "imu": {"enabled": False}}
 
 
-def open_world(size: float = 40.0) -> World:
+def open_world(size: float = 40.0) -> SimWorld:
     n = int(size / RES)
-    return World(OccupancyGrid(np.zeros((n, n), np.int16), RES, Pose2D(-size / 2, -size / 2)))
+    return SimWorld(OccupancyGrid(np.zeros((n, n), np.int16), RES, Pose2D(-size / 2, -size / 2)))
 
 
 def drive(sim: Simulator, clock: SimClock, cmd: Twist, seconds: float, period: float = 0.05
@@ -34,7 +34,7 @@ def drive(sim: Simulator, clock: SimClock, cmd: Twist, seconds: float, period: f
         sim.step()
 
 
-def make(world: World, robot: dict, start: Pose2D = Pose2D(), seed: int = 0
+def make(world: SimWorld, robot: dict, start: Pose2D = Pose2D(), seed: int = 0
          ) -> tuple[Simulator, SimClock]:
     clock = SimClock()
     return Simulator(world, robot, clock, np.random.default_rng(seed), start=start), clock
@@ -120,7 +120,7 @@ def test_command_timeout_brakes_to_zero():
     assert sim.true_velocity().vx == 0.0
 
 
-def wall_world(wall: str) -> tuple[World, float]:
+def wall_world(wall: str) -> tuple[SimWorld, float]:
     """A 10 x 4 m room; a thin obstacle across it at x = 5 m. Returns the world and the x of the
     obstacle's near face."""
     grid = np.zeros((80, 200), np.int16)
@@ -135,7 +135,7 @@ def wall_world(wall: str) -> tuple[World, float]:
     elif wall == "poles":
         # a fence of thin poles, gaps narrower than the robot
         objects += [Pole(5.01, y, 0.01) for y in np.arange(0.1, 4.0, 0.3)]
-    return World(OccupancyGrid(grid, RES), objects), face
+    return SimWorld(OccupancyGrid(grid, RES), objects), face
 
 
 @pytest.mark.parametrize("wall", ["map", "segment", "poles"])
@@ -177,7 +177,7 @@ def test_contact_stops_the_robot_presses_the_bumper_and_it_can_back_away():
 def test_rotation_into_a_wall_is_a_contact():
     grid = np.zeros((60, 60), np.int16)
     grid[:, 35] = 100  # wall at x = 1.75
-    world = World(OccupancyGrid(grid, RES))
+    world = SimWorld(OccupancyGrid(grid, RES))
     # 0.25 m half-length body, centre 1.45: fits along x, but its corners sweep to 0.33 m
     sim, clock = make(world, dict(FAST), Pose2D(1.45, 1.5, 0.0))
     drive(sim, clock, Twist(0, 0, 1.0), 1.0)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from hw.sim import Circle, Simulator, World
+from hw.sim import Circle, Simulator, SimWorld
 from hw.sim.noise import standard_normals
 from hw.sim.sensors import odometry_noise_step
 from navcore.clock import SimClock
@@ -22,12 +22,12 @@ QUIET = {"odom_alpha1": 0.0, "odom_alpha2": 0.0, "odom_alpha3": 0.0, "odom_alpha
          "odom_alpha5": 0.0}
 
 
-def box_world(n: int = 100) -> World:
+def box_world(n: int = 100) -> SimWorld:
     """n x n cells, 2-cell walls: the free inside is [0.1, (n - 2) * RES]^2."""
-    return World(OccupancyGrid(box_cells(n).astype(np.int16) * 100, RES))
+    return SimWorld(OccupancyGrid(box_cells(n).astype(np.int16) * 100, RES))
 
 
-def make(world: World, robot: dict, start: Pose2D = Pose2D(), seed: int = 0
+def make(world: SimWorld, robot: dict, start: Pose2D = Pose2D(), seed: int = 0
          ) -> tuple[Simulator, SimClock]:
     clock = SimClock()
     return Simulator(world, robot, clock, np.random.default_rng(seed), start=start), clock
@@ -100,7 +100,7 @@ def test_scans_arrive_at_the_scan_rate_and_beams_can_be_overridden():
 
 
 def test_beams_that_hit_nothing_read_inf_or_range_max():
-    world = World(OccupancyGrid(np.zeros((400, 400), np.int16), RES))
+    world = SimWorld(OccupancyGrid(np.zeros((400, 400), np.int16), RES))
     for no_return, want in (("inf", math.inf), ("range_max", 5.6)):
         sim, _ = make(world, {"laser": {"no_return": no_return}}, Pose2D(10, 10, 0))
         assert np.all(sim.laser.scan().ranges == np.float32(want))
@@ -156,7 +156,7 @@ def test_laser_noise_stream_is_seeded_and_standard_normal():
 def _odometry_increments(robot: dict, cmd: Twist, runs: int, periods: int) -> np.ndarray:
     """Per-period odometry increments (in the previous odometry frame) over many seeded runs;
     the true motion per period is the same in every one."""
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     robot = dict(robot, acc_lim_x=1e6, acc_lim_y=1e6, acc_lim_theta=1e6,
                  laser={"enabled": False}, imu={"enabled": False})
     incs = []
@@ -214,7 +214,7 @@ def test_omni_odometry_noise_matches_the_alpha_model():
 def test_odometry_twist_covariance_is_the_alpha_model_over_one_period(kinematics):
     """Each message's twist covariance is amcl's variance of one odometry period's motion at the
     published twist, divided by the period squared; the pose covariance is the fixed diagonal."""
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     robot = dict(ALPHAS, kinematics=kinematics, odom_rate=50.0, laser={"enabled": False},
                  imu={"enabled": False})
     sim, clock = make(world, robot)
@@ -255,7 +255,7 @@ def test_odometry_noise_step_drives_backwards_without_half_turn_noise():
 # --------------------------------------------------------------------------- imu and battery
 
 def test_imu_reads_yaw_rate_with_bias_and_integrates_it():
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     imu = {"gyro_noise_stddev": 0.01, "gyro_bias": 0.02, "rate": 100.0}
     sim, clock = make(world, dict(QUIET, laser={"enabled": False}, imu=imu))
     rates = []
@@ -273,7 +273,7 @@ def test_imu_reads_yaw_rate_with_bias_and_integrates_it():
 
 
 def test_battery_drains_faster_when_moving():
-    world = World(OccupancyGrid(np.zeros((200, 200), np.int16), 0.5, Pose2D(-50, -50)))
+    world = SimWorld(OccupancyGrid(np.zeros((200, 200), np.int16), 0.5, Pose2D(-50, -50)))
     robot = {"laser": {"enabled": False}, "battery": {"capacity_wh": 1.0}}
     idle, c1 = make(world, robot)
     busy, c2 = make(world, robot)
@@ -313,7 +313,7 @@ def test_laser_dropout_and_frozen_laser():
 
 
 def test_odometry_slip_wheels_turn_robot_stands():
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     sim, clock = make(world, dict(QUIET, laser={"enabled": False}))
     sim.inject("odom_slip", start=0.0, duration=2.0)
     for _ in range(60):
@@ -327,7 +327,7 @@ def test_odometry_slip_wheels_turn_robot_stands():
 
 
 def test_blocked_rotation_turns_the_wheels_not_the_body():
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     sim, clock = make(world, dict(QUIET, laser={"enabled": False},
                                   imu={"gyro_bias": 0.0, "gyro_noise_stddev": 0.0}))
     sim.inject("blocked_rotation", start=0.0)
@@ -341,7 +341,7 @@ def test_blocked_rotation_turns_the_wheels_not_the_body():
 
 
 def test_stuck_wheel_pivots_about_it():
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     sim, clock = make(world, dict(QUIET, wheel_separation=0.4, acc_lim_x=1e6,
                                   acc_lim_theta=1e6, laser={"enabled": False}))
     sim.inject("stuck_wheel", start=0.0, duration=10.0, wheel="left")
@@ -360,7 +360,7 @@ def test_stuck_wheel_pivots_about_it():
 
 
 def test_constant_wheel_slip_makes_odometry_over_read():
-    world = World(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
+    world = SimWorld(OccupancyGrid(np.zeros((40, 40), np.int16), 1.0, Pose2D(-20, -20)))
     sim, clock = make(world, dict(QUIET, wheel_slip=0.1, laser={"enabled": False}))
     for _ in range(40):
         sim.base.send(Twist(0.5, 0, 0))

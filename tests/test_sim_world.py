@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from hw.sim import (Box, Circle, FaultError, MovingObstacle, Polygon, Simulator, World,
+from hw.sim import (Box, Circle, FaultError, MovingObstacle, Polygon, Simulator, SimWorld,
                     WorldError, fault_from_mapping, robot_config)
 from navcore.clock import SimClock
 from navcore.params import ParameterError
@@ -15,14 +15,14 @@ from navcore.synthetic_maps import office_map
 from navcore.types import Pose2D, Twist
 
 
-def office_world() -> World:
-    w = World(office_map(200), unknown_is_obstacle=True)
+def office_world() -> SimWorld:
+    w = SimWorld(office_map(200), unknown_is_obstacle=True)
     w.add(Circle(4.5, 1.5, 0.2))  # the 6 m room has a desk around (3, 2.8)
     w.add(MovingObstacle(((1.5, 4.5), (4.5, 4.5)), speed=0.6, radius=0.2, loop=True))
     return w
 
 
-def trace(seed: int, period: float = 0.05, seconds: float = 6.0, world: World | None = None
+def trace(seed: int, period: float = 0.05, seconds: float = 6.0, world: SimWorld | None = None
           ) -> dict[str, list]:
     """Drive a scripted command sequence (changing every 0.1 s) and record everything."""
     world = world or office_world()
@@ -83,7 +83,7 @@ def test_moving_obstacle_waypoints_speed_pauses_and_loop():
 
 
 def test_world_shapes_reduce_to_circles_and_segments():
-    w = World(office_map(100))
+    w = SimWorld(office_map(100))
     w.add(Box(1.0, 1.0, 2.0, 1.5))
     w.add(Polygon(((3, 3), (4, 3))))
     w.add(Circle(1.0, 1.0, 0.1, appear=5.0))
@@ -108,7 +108,7 @@ def test_bad_world_input_gets_clear_errors():
     with pytest.raises(WorldError, match="speed"):
         MovingObstacle(((0, 0), (1, 1)), speed=0.0)
     with pytest.raises(WorldError, match="expected Circle"):
-        World(office_map(50)).add("a box")  # type: ignore[arg-type]
+        SimWorld(office_map(50)).add("a box")  # type: ignore[arg-type]
 
 
 def test_robot_config_rejects_unknown_and_bad_keys():
@@ -147,7 +147,7 @@ def test_faults_from_scenario_mappings():
 
 
 def test_simulator_requires_a_seeded_generator_and_survives_bad_commands():
-    world = World(office_map(100))
+    world = SimWorld(office_map(100))
     with pytest.raises(TypeError, match="Generator"):
         Simulator(world, {}, SimClock(), 42)  # type: ignore[arg-type]
     clock = SimClock()
@@ -160,7 +160,7 @@ def test_simulator_requires_a_seeded_generator_and_survives_bad_commands():
 
 
 def test_set_pose_teleports_without_odometry_noticing():
-    world = World(office_map(200))
+    world = SimWorld(office_map(200))
     clock = SimClock()
     sim = Simulator(world, {}, clock, np.random.default_rng(0), start=Pose2D(1.0, 1.0, 0.0))
     assert sim.set_pose(Pose2D(4.0, 4.0, 1.0)) is False

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from py_trees.common import Status
 
-from behaviors.testing import FakeRobot, NodeRig, World
+from behaviors.testing import FakeRobot, NodeRig, ScriptedWorld
 from navcore.clock import SimClock
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE
 from navcore.costmap.layered import LayeredCostmap
@@ -227,7 +227,7 @@ class Rig(NodeRig):
 
     def __init__(self, g: np.ndarray, pose: Pose2D) -> None:
         cm = costmap(g)
-        super().__init__(World(robot=FakeRobot(pose), local_costmap=cm, global_costmap=cm,
+        super().__init__(ScriptedWorld(robot=FakeRobot(pose), local_costmap=cm, global_costmap=cm,
                                control_period=0.1))
 
     def run(self, node, max_ticks=1000):
@@ -355,7 +355,7 @@ def test_smach_tree_lines_up_then_enters_a_bay_straight():
     g = room()
     goal = bay(g, "south", 0.72)
     cm = costmap(g)
-    w = World(robot=FakeRobot(Pose2D(goal.x, 3.4, -math.pi / 2)), local_costmap=cm,
+    w = ScriptedWorld(robot=FakeRobot(Pose2D(goal.x, 3.4, -math.pi / 2)), local_costmap=cm,
               global_costmap=cm, planner=ScriptedPlanner(), controller=ScriptedController(),
               control_period=0.1)
     tree = load_tree(shipped_tree("smach_recovery"), namespace=f"/tightree{next(_ns)}")

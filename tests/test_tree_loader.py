@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 import pytest
 from py_trees.common import Status
 
-from behaviors.testing import World, run_tree
+from behaviors.testing import ScriptedWorld, run_tree
 from executive.tree_loader import (SHIPPED_TREES, TreeLoadError, load_any, load_tree, load_xml,
                                    shipped_tree, to_xml)
 from navcore.types import Pose2D
@@ -45,7 +45,7 @@ def test_shipped_trees_load_and_export(name, tmp_path):
 def test_two_missions_do_not_share_keys():
     a = load_tree(shipped_tree("nav2"), namespace="/mission_a")
     b = load_tree(shipped_tree("nav2"), namespace="/mission_b")
-    wa, wb = World(), World()
+    wa, wb = ScriptedWorld(), ScriptedWorld()
     a.setup(**wa.components())
     b.setup(**wb.components())
     a.set("goal", Pose2D(2.0, 0.0, 0.0))
@@ -275,7 +275,7 @@ def test_nav2_xml_loads_and_unsupported_nodes_are_named(tmp_path):
     t = load_xml(p2, namespace="/x")
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
     assert [c.get_input("costmap") for c in clears] == ["global", "local", "local", "global"]
-    w = World()
+    w = ScriptedWorld()
     t.setup(**w.components())
     t.set("goal", Pose2D(1.0, 1.0, 0.0))
     status, _ = run_tree(t, w)
@@ -410,7 +410,7 @@ def test_xml_include_and_subtree_remapping(tmp_path):
     t = load_xml(p, namespace="/xi")
     plan = next(n for n in t.nodes() if type(n).__name__ == "ComputePathToPose")
     assert (plan.port_key("goal"), plan.port_key("path")) == ("/xi/goal", "/xi/path")
-    w = World()
+    w = ScriptedWorld()
     t.setup(**w.components())
     t.set("goal", Pose2D(1.0, 0.0, 0.0))
     status, _ = run_tree(t, w)

@@ -14,7 +14,8 @@ import pytest
 from py_trees.common import Status
 from py_trees.visitors import VisitorBase
 
-from behaviors.testing import FakeCostmap, ScriptedController, ScriptedPlanner, World, run_tree
+from behaviors.testing import (FakeCostmap, ScriptedController, ScriptedPlanner, ScriptedWorld,
+                               run_tree)
 from executive.tree_loader import SHIPPED_TREES, load_tree, shipped_tree
 from navcore.planners.result import PlanReason
 from navcore.types import Pose2D
@@ -40,7 +41,7 @@ class Runs(VisitorBase):
             self.running[kind] += 1
 
 
-def start(name: str, world: World, goal: Pose2D = GOAL):
+def start(name: str, world: ScriptedWorld, goal: Pose2D = GOAL):
     tree = load_tree(shipped_tree(name), namespace=f"/sys{next(_ns)}")
     runs = Runs()
     tree.tree.add_visitor(runs)
@@ -55,7 +56,7 @@ def clears(cm: FakeCostmap) -> int:
 
 @pytest.mark.parametrize("name", SHIPPED_TREES)
 def test_all_succeed(name):
-    w = World()
+    w = ScriptedWorld()
     tree, runs = start(name, w)
     status, ticks = run_tree(tree, w)
     assert status == S
@@ -68,7 +69,7 @@ def test_all_succeed(name):
 
 
 def test_move_base_everything_fails():
-    w = World(planner=ScriptedPlanner(fail_always=True))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_always=True))
     tree, runs = start("move_base", w)
     status, ticks = run_tree(tree, w, max_ticks=20000)
     assert status == F
@@ -83,7 +84,7 @@ def test_move_base_everything_fails():
 
 
 def test_nav2_everything_fails():
-    w = World(planner=ScriptedPlanner(fail_always=True))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_always=True))
     tree, runs = start("nav2", w)
     status, _ = run_tree(tree, w)
     assert status == F
@@ -95,7 +96,7 @@ def test_nav2_everything_fails():
 
 
 def test_smach_everything_fails():
-    w = World(planner=ScriptedPlanner(fail_always=True))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_always=True))
     tree, runs = start("smach_recovery", w)
     status, _ = run_tree(tree, w)
     assert status == F
@@ -113,7 +114,7 @@ def test_smach_everything_fails():
 
 
 def test_near_goal_everything_fails():
-    w = World(planner=ScriptedPlanner(fail_always=True))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_always=True))
     tree, runs = start("near_goal_reconfigure", w)
     status, _ = run_tree(tree, w)
     assert status == F
@@ -129,7 +130,7 @@ def test_near_goal_everything_fails():
     ("near_goal_reconfigure", 1, 1, 2),   # no context recovery: first global one (clear both)
 ])
 def test_planning_fails_once(name, global_resets, local_resets, planner_min):
-    w = World(planner=ScriptedPlanner(fail_calls=[1]))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_calls=[1]))
     tree, runs = start(name, w)
     status, _ = run_tree(tree, w)
     assert status == S and w.robot.pose().distance_to(GOAL) <= 0.1
@@ -143,7 +144,7 @@ def test_goal_changes_while_a_recovery_runs(name):
     """Planning fails until a Spin is under way; then a new goal arrives and planning works."""
     state = {"blocked": True, "switched_at": None}
     planner = ScriptedPlanner(fail_calls=lambda i: state["blocked"])
-    w = World(planner=planner)
+    w = ScriptedWorld(planner=planner)
     tree, runs = start(name, w)
     new_goal = Pose2D(-1.0, 2.0, 0.0)
 
@@ -163,13 +164,13 @@ def test_goal_changes_while_a_recovery_runs(name):
 
 def test_nav2_picks_recoveries_by_error_code():
     # goal occupied: no recovery can help, so nav2 gives up after one planning attempt
-    w = World(planner=ScriptedPlanner(fail_always=True, reason=PlanReason.GOAL_OCCUPIED))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_always=True, reason=PlanReason.GOAL_OCCUPIED))
     tree, runs = start("nav2", w)
     status, _ = run_tree(tree, w)
     assert status == F and w.planner.calls == 1
     assert w.global_costmap.resets == w.local_costmap.resets == 0
     # controller failures: the local costmap is cleared in context, then global recoveries
-    w = World(controller=ScriptedController(fail_always=True))
+    w = ScriptedWorld(controller=ScriptedController(fail_always=True))
     tree, runs = start("nav2", w)
     status, _ = run_tree(tree, w)
     assert status == F
@@ -177,10 +178,10 @@ def test_nav2_picks_recoveries_by_error_code():
     assert w.local_costmap.resets == 7 + 2 and w.global_costmap.resets == 2
 
 
-def _boxed_in_world() -> World:
+def _boxed_in_world() -> ScriptedWorld:
     """No valid command toward the goal while the robot is within 0.35 m of where it started;
     any other plan (a way out) can be followed. Clearing and turning on the spot do not help."""
-    w = World()
+    w = ScriptedWorld()
 
     class Boxed(ScriptedController):
         def compute_velocity(self, pose, velocity, path=None):
@@ -207,7 +208,7 @@ def test_smach_recovers_where_move_base_gives_up():
 
 
 def test_near_goal_reconfigure_lowers_the_bias_only_near_the_goal():
-    w = World()
+    w = ScriptedWorld()
     tree, _ = start("near_goal_reconfigure", w)
     status, _ = run_tree(tree, w)
     assert status == S
@@ -222,7 +223,7 @@ def test_near_goal_reconfigure_lowers_the_bias_only_near_the_goal():
 def test_goal_changes_while_driving(name):
     """A new goal during FollowPath: every tree replans (move_base at once, the others at their
     replanning rate) and reaches the new goal without any recovery."""
-    w = World()
+    w = ScriptedWorld()
     tree, runs = start(name, w)
     new_goal = Pose2D(0.5, -2.0, 0.0)
 
@@ -239,7 +240,7 @@ def test_goal_changes_while_driving(name):
 
 
 def test_interrupt_for_a_new_goal_restarts_the_recovery_list():
-    w = World(planner=ScriptedPlanner(fail_calls=[1, 2, 3]))
+    w = ScriptedWorld(planner=ScriptedPlanner(fail_calls=[1, 2, 3]))
     tree, runs = start("nav2", w)
     status, _ = run_tree(tree, w)
     assert status == S and w.local_costmap.resets == 1   # one global recovery: clearing
@@ -256,7 +257,7 @@ def test_interrupt_for_a_new_goal_restarts_the_recovery_list():
 def test_move_base_restarts_its_recovery_list_after_navigating_again():
     """Control fails for 16 s (past controller_patience), works for 25 s, fails again: like
     move_base, the second episode starts with the conservative reset again, not rotate."""
-    w = World()
+    w = ScriptedWorld()
     t = w.clock.now
     w.controller = ScriptedController(fail_calls=lambda i: t() < 16.0 or 41.0 <= t() < 57.0,
                                       parameters=w.parameters["DWAPlannerROS"])

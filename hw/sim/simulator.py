@@ -1,6 +1,6 @@
 """The simulated robot behind the ``hw`` interfaces: a deterministic world you can script.
 
-``Simulator(world, robot, clock, rng)`` owns one robot in a ``World``. ``step_to(t)`` runs fixed
+``Simulator(world, robot, clock, rng)`` owns one robot in a ``SimWorld``. ``step_to(t)`` runs fixed
 physics steps up to time t in chunks that end wherever something happens (a sensor is due, a
 fault starts or ends, an object appears); each chunk is one numba call. ``base``, ``laser`` and
 ``imu`` implement ``hw.interfaces.Base``, ``Laser`` and ``ImuSensor``. Randomness comes only from
@@ -20,7 +20,7 @@ from hw.interfaces import BaseEvents, BatteryState
 from hw.sim import physics as ph
 from hw.sim.config import RobotConfig, robot_config
 from hw.sim.faults import Fault, fault_from_mapping
-from hw.sim.world import World, first_after
+from hw.sim.world import SimWorld, first_after
 from navcore.clock import Clock
 from navcore.types import Imu, LaserScan, Odometry, Pose2D, Twist, normalize_angle
 
@@ -94,7 +94,7 @@ class SimImu:
 
 
 class Simulator:
-    """One robot in a ``World``.
+    """One robot in a ``SimWorld``.
 
     ``robot`` is a plain dict (see ``hw.sim.config``) or a ``RobotConfig``; ``start`` the initial
     true pose in ``map``. The odometry frame starts at the robot (odometry pose (0, 0, 0)). Sensors
@@ -102,10 +102,11 @@ class Simulator:
     the newest message.
     """
 
-    def __init__(self, world: World, robot: Mapping[str, Any] | RobotConfig | None,
+    def __init__(self, world: SimWorld, robot: Mapping[str, Any] | RobotConfig | None,
                  clock: Clock, rng: np.random.Generator, start: Pose2D = Pose2D()) -> None:
-        if not isinstance(world, World):
-            raise TypeError(f"Simulator: world must be a hw.sim.World, got {type(world).__name__}")
+        if not isinstance(world, SimWorld):
+            raise TypeError("Simulator: world must be a hw.sim.SimWorld, got "
+                            f"{type(world).__name__}")
         if not isinstance(rng, np.random.Generator):
             raise TypeError("Simulator: rng must be a numpy.random.Generator (seeded), got "
                             f"{type(rng).__name__}")

@@ -177,16 +177,17 @@ def _present(o: WorldObject, t: float) -> bool:
     return o.appear <= t < o.disappear
 
 
-class World:
-    """An ``OccupancyGrid`` (cells >= ``occupied_value`` are solid; unknown cells are solid only
+class SimWorld:
+    """The simulator's physical world (what the robot collides with and the laser sees): an
+    ``OccupancyGrid`` (cells >= ``occupied_value`` are solid; unknown cells are solid only
     with ``unknown_is_obstacle``) plus objects. ``shapes_at(t)`` gives the kernels' arrays."""
 
     def __init__(self, grid: OccupancyGrid, objects: Sequence[WorldObject] = (),
                  unknown_is_obstacle: bool = False, occupied_value: int = 65) -> None:
         if not isinstance(grid, OccupancyGrid):
-            raise WorldError(f"World: grid must be an OccupancyGrid, got {type(grid).__name__}")
+            raise WorldError(f"SimWorld: grid must be an OccupancyGrid, got {type(grid).__name__}")
         if grid.origin.theta != 0.0:
-            raise WorldError("World: maps with a rotated origin are not supported "
+            raise WorldError("SimWorld: maps with a rotated origin are not supported "
                              f"(origin yaw {grid.origin.theta})")
         self.grid = grid
         blocked = grid.data >= occupied_value
@@ -212,8 +213,8 @@ class World:
     def add(self, obj: WorldObject) -> WorldObject:
         """Put an object into the world (it still honours its own appear/disappear times)."""
         if not isinstance(obj, (Circle, Polygon, MovingObstacle)):
-            raise WorldError(f"World.add: expected Circle, Polygon, Box, Pole or MovingObstacle, "
-                             f"got {type(obj).__name__}")
+            raise WorldError("SimWorld.add: expected Circle, Polygon, Box, Pole or "
+                             f"MovingObstacle, got {type(obj).__name__}")
         self._objects.append(obj)
         self._changed()
         return obj
