@@ -163,6 +163,8 @@ class ScriptedController:
         self.plan: Path | None = None
         self._reached = False
         self.bias_log: list[float] = []
+        self._goal_of: Path | None = None
+        self._goal = Pose2D()
 
     def set_plan(self, path: Path) -> None:
         self.plans_set += 1
@@ -185,7 +187,9 @@ class ScriptedController:
             self.set_plan(path)
         if self.fail_always or _in(self.calls, self.fail_calls) or self.plan is None:
             return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY)
-        goal = self.plan.pose(len(self.plan) - 1)
+        if self._goal_of is not self.plan:  # the plan's last pose, read once per plan
+            self._goal_of, self._goal = self.plan, self.plan.pose(len(self.plan) - 1)
+        goal = self._goal
         d = pose.distance_to(goal)
         if d <= self.tol:
             self._reached = True
