@@ -267,12 +267,12 @@ class Recorder:
     def record(self, tick: int, t: float, pose: Pose2D | None, cmd: Twist,
                bb: dict[str, Any], events: list[dict[str, Any]], overrun_ms: float | None,
                root_status: py_trees.common.Status) -> dict[str, Any] | None:
-        """Build (and write) one tick line; returns it (None without a stream: nothing to
-        serialise, only the status bookkeeping is kept)."""
-        status = self.status_changes()
+        """Build (and write) one tick line; returns it (None without a stream or a sink:
+        nothing is kept, not even which statuses changed)."""
         self.ticks += 1
         if self.stream is None and not self.sinks:
             return None
+        status = self.status_changes()
         line: dict[str, Any] = {"tick": tick, "t": round(t, 4), "root": root_status.name}
         if status:
             line["status"] = status
