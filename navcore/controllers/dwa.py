@@ -134,6 +134,7 @@ class DWAPlanner(LocalPlannerBase):
         self.exhaustive = False  # score every trajectory in full (for drawing); slower
         # distance grids of the current costmap window, by seed cells (see _distance_grid)
         self._grid_cache: dict[str, Any] = {}
+        self._reach: tuple[Any, int] | None = None  # (key, bound_reach) of the last _bound
 
     def reset(self) -> None:
         """Forget the latched xy tolerance, the rotate-to-goal phase and the oscillation flags."""
@@ -240,7 +241,9 @@ class DWAPlanner(LocalPlannerBase):
         key = (res, self._p().max_scaling_factor, self.footprint.tobytes())
         cached = self._grid_cache.get("bound")
         if cached is None or cached[0] != key:
-            reach = bound_reach(self.footprint, res, 1.01 * (1.0 + key[1]))
+            if self._reach is None or self._reach[0] != key:  # not with every new window
+                self._reach = (key, bound_reach(self.footprint, res, 1.01 * (1.0 + key[1])))
+            reach = self._reach[1]
             cached = (key, square_max(costs, reach), reach)
             self._grid_cache["bound"] = cached
         return cached[1], cached[2]
