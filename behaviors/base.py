@@ -25,6 +25,7 @@ from typing import Any, ClassVar, Iterable, Iterator
 import py_trees
 from py_trees.common import Status
 from py_trees.ports import NoDataAvailable, PortInformation, PortsMixin, get_ports_registry
+from py_trees.ports_utils import sanitize_name_for_blackboard_use
 
 from navcore.types import Pose2D
 from behaviors.errors import BehaviorError
@@ -106,6 +107,9 @@ class NavNode(PortsMixin):
 
     DEFAULT_KEYS: ClassVar[dict[str, str]] = {}
     CATEGORY: ClassVar[str] = "Action"
+    # The node's place in its tree, set by the tree builder before ``wire``: it names the
+    # node's private keys (see _scoped_node_name). None: py_trees' uuid4 (nodes built by hand).
+    private_tag: str | None = None
 
     def __init__(self, name: str = "", **kwargs: Any) -> None:
         cls = type(self)
@@ -159,6 +163,19 @@ class NavNode(PortsMixin):
         # the class each wired output must be given (ports typed with something else: any)
         self._out_types = {p: info.data_type for p, info in self.output_ports().items()
                            if p in self._keys and isinstance(info.data_type, type)}
+
+    def _scoped_node_name(self) -> str:
+        """Where the private keys of unwired ports live: ``<scope>/<name>_<private_tag>``.
+
+        py_trees appends a uuid4, which differs every run and so would make two runs of one
+        tree record different keys; the builder's tag is unique within the tree and the same
+        every time the tree is built (the mission namespace keeps two loaded trees apart).
+        """
+        tag = self.private_tag
+        if tag is None:
+            return super()._scoped_node_name()
+        namespace = (self._subtree_namespace or "/").rstrip("/")
+        return f"{namespace}/{sanitize_name_for_blackboard_use(self.name)}_{tag}"
 
     def _fast_get(self, port_name: str) -> Any:
         """Stored value of a wired port, _MISSING when absent (None counts as absent)."""

@@ -203,9 +203,11 @@ class Executive:
 
     def _error(self, node: Any, where: str, e: BaseException) -> None:
         name = getattr(node, "name", str(node))
-        event = {"error": f"{type(e).__name__}: {e}", "node": name, "in": where,
+        # keys named in messages are made relative to the mission, as in the tick records
+        ns = self.namespace + "/"
+        event = {"error": f"{type(e).__name__}: {e}".replace(ns, ""), "node": name, "in": where,
                  "t": round(self.clock.now(), 3),
-                 "traceback": "".join(traceback.format_exception(e)).rstrip()}
+                 "traceback": "".join(traceback.format_exception(e)).rstrip().replace(ns, "")}
         self._events.append(event)
         self.trace.errors.append(event)
 
@@ -260,8 +262,9 @@ class Executive:
         return status
 
     def _start_recording(self) -> None:
-        self.recorder.start(self.tree.root, dict(self._meta, namespace=self.namespace,
-                                                 period=self.period))
+        # not the namespace: it is /mission_N, N counting this process's earlier missions, and
+        # the records depend on the scenario, tree, config and seed only (their keys are relative)
+        self.recorder.start(self.tree.root, dict(self._meta, period=self.period))
         self._started = True
 
     def _sense(self, now: float) -> None:

@@ -5,8 +5,9 @@ The first line is a header (``{"header": {...}}``) listing the tree's nodes in p
 without reloading the tree. Each tick line holds only what changed: node statuses, blackboard
 writes, plus the pose, the command sent and events (recoveries, faults, errors, contacts).
 Everything in it comes from the simulated clock and seeded generators, so the same seed gives a
-byte-identical file. Wall-clock figures (``overrun_ms`` when a tick took longer than its period)
-are not deterministic and go to a separate ``timing`` stream (``timing.jsonl`` in a run folder).
+byte-identical file. Wall-clock figures (``overrun_ms`` when a tick took longer than its period,
+and the footer's count of them) are not deterministic and go to a separate ``timing`` stream
+(``timing.jsonl`` in a run folder).
 """
 
 from __future__ import annotations
@@ -220,6 +221,7 @@ class Recorder:
         self._nodes: list[py_trees.behaviour.Behaviour] = []
         self._last_status: list[str] = []
         self.ticks = 0
+        self.overruns = 0  # ticks longer than their period (wall clock): timing stream only
         self.node_stats: NodeStatsVisitor | None = None
         self._executive: Any = None
 
@@ -283,8 +285,11 @@ class Recorder:
         line["cmd"] = to_jsonable(cmd)
         if events:
             line["events"] = events
-        if overrun_ms is not None and self.timing is not None:
-            self.timing.write(dumps({"tick": tick, "overrun_ms": round(overrun_ms, 3)}) + "\n")
+        if overrun_ms is not None:
+            self.overruns += 1
+            if self.timing is not None:
+                self.timing.write(dumps({"tick": tick, "overrun_ms": round(overrun_ms, 3)})
+                                  + "\n")
         self._write(line)
         if self.sinks:
             self._to_sinks("tick", line, self._executive)
@@ -296,6 +301,9 @@ class Recorder:
                            last_failure=self.node_stats.last_failure,
                            last_failure_tick=self.node_stats.last_failure_tick)
         self._write({"footer": summary})
+        if self.timing is not None:
+            self.timing.write(dumps({"footer": {"ticks": self.ticks,
+                                                "overruns": self.overruns}}) + "\n")
         self._to_sinks("finish", summary)
 
     def _to_sinks(self, method: str, *args: Any) -> None:

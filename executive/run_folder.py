@@ -1,7 +1,8 @@
 """The run folder: ``tree.svg``, ``ticks.jsonl``, ``timing.jsonl``, ``run.png``, ``summary.json``.
 
-``ticks.jsonl`` is byte-identical for the same seed; ``timing.jsonl`` (wall-clock overruns) and the
-``overruns`` count of ``summary.json`` are measurements of this machine and are not.
+``ticks.jsonl`` and ``summary.json`` are byte-identical for the same scenario, tree, config and
+seed; ``timing.jsonl`` (wall-clock overruns and their count) holds the measurements of this
+machine, which are not.
 
 ``ticks.jsonl`` is streamed by the Recorder while the mission runs (``open_recorder``, or
 ``open_log`` for the tick log alone); the rest is written once at the end (``finish``) from the
@@ -81,7 +82,6 @@ def finish(run_dir: str | os.PathLike, ex: Executive, result: MissionResult,
     summary["recovery_events"] = ex.trace.recoveries
     summary["faults"] = ex.trace.faults
     summary["errors"] = ex.trace.errors
-    summary["overruns"] = ex.trace.overruns
     diagnostics = getattr(ex.io, "diagnostics", None)   # real drivers: frames dropped and why
     if callable(diagnostics):
         summary["devices"] = diagnostics()

@@ -242,6 +242,7 @@ class Builder:
                 self._node(c, scope, stack)
             return _Invalid(name=spec.label)
         self._count += 1
+        index = self._count  # the node's place in the tree (pre-order): names its private keys
         if self._count > MAX_TREE_NODES or self._depth >= MAX_TREE_DEPTH:
             raise spec.error(f"the tree (subtrees expanded) is larger than the limits of "
                              f"{MAX_TREE_NODES} nodes and {MAX_TREE_DEPTH} levels")
@@ -265,6 +266,7 @@ class Builder:
         elif issubclass(cls, DecoratorNode):
             kwargs["child"] = children[0]
         node = cls(name=spec.name or spec.type, **kwargs)
+        node.private_tag = str(index)
         try:
             node.wire(scope.prefix, refs, literals)
         except (KeyError, ValueError, TypeError) as e:

@@ -413,6 +413,10 @@ def test_overrun_is_recorded():
     lines = [json.loads(s) for s in timing.getvalue().splitlines()]
     assert lines == [{"tick": i, "overrun_ms": 150.0} for i in range(3)]
     assert ex.trace.overruns == 3
+    ex.recorder.footer({"outcome": "stopped"})   # the count closes the timing stream, not the log
+    assert json.loads(timing.getvalue().splitlines()[-1]) == {"footer": {"ticks": 3,
+                                                                         "overruns": 3}}
+    assert "overrun" not in stream.getvalue()
 
 
 def test_setup_failure_is_a_wiring_error(tmp_path):

@@ -45,6 +45,8 @@ class NavigateToPose(Control):
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
              literals: dict[str, Any] | None = None) -> None:
         super().wire(namespace, refs, literals)
+        for inner in (self._plan, self._rate, self._follow, self._pipe):
+            inner.private_tag = self.private_tag  # their names differ: their keys do too
         lit = self._literals
         g = self.GOAL_PORT
         goal_ref = {} if g in lit else {g: self.port_key(g)}
