@@ -110,6 +110,9 @@ class NavNode(PortsMixin):
     # The node's place in its tree, set by the tree builder before ``wire``: it names the
     # node's private keys (see _scoped_node_name). None: py_trees' uuid4 (nodes built by hand).
     private_tag: str | None = None
+    # True for a node whose semantics changed between Nav2 distributions: the tree builder then
+    # passes the tree's ``nav2_distro`` (None: navbt's own) to its constructor.
+    USES_NAV2_DISTRO: ClassVar[bool] = False
 
     def __init__(self, name: str = "", **kwargs: Any) -> None:
         cls = type(self)
@@ -450,9 +453,11 @@ def node_classes() -> dict[str, type[NavNode]]:
 def make(node_type: str | type[NavNode], name: str = "", namespace: str = "/test",
          children: list[py_trees.behaviour.Behaviour] | None = None,
          child: py_trees.behaviour.Behaviour | None = None,
-         port_values: dict[str, Any] | None = None, **ports: Any) -> NavNode:
+         port_values: dict[str, Any] | None = None, nav2_distro: str | None = None,
+         **ports: Any) -> NavNode:
     """Build and wire one node by hand (tests): ``"{key}"`` strings are references.
-    ``port_values`` carries ports whose names clash with these arguments (``namespace``).
+    ``port_values`` carries ports whose names clash with these arguments (``namespace``);
+    ``nav2_distro`` reaches the nodes that follow one (``USES_NAV2_DISTRO``), as the loader's.
 
     >>> make("Wait", wait_duration=2.0)            # doctest: +SKIP
     """
@@ -463,6 +468,8 @@ def make(node_type: str | type[NavNode], name: str = "", namespace: str = "/test
         kwargs["children"] = children or []
     elif issubclass(cls, DecoratorNode):
         kwargs["child"] = child
+    if cls.USES_NAV2_DISTRO:
+        kwargs["nav2_distro"] = nav2_distro
     node = cls(name=name or cls.__name__, **kwargs)
     refs, literals = {}, {}
     for port, value in ports.items():

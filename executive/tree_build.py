@@ -265,6 +265,8 @@ class Builder:
             kwargs["children"] = children
         elif issubclass(cls, DecoratorNode):
             kwargs["child"] = children[0]
+        if cls.USES_NAV2_DISTRO:
+            kwargs["nav2_distro"] = self.distro
         node = cls(name=spec.name or spec.type, **kwargs)
         node.private_tag = str(index)
         try:
@@ -272,8 +274,6 @@ class Builder:
         except (KeyError, ValueError, TypeError) as e:
             self.errors.append(spec.error(f"cannot wire ports: {e}"))
             return _Invalid(name=spec.label)
-        node.source_location = str(spec.where)  # for error reports at run time
-        node.nav2_distro = self.distro  # nodes whose semantics changed between distributions
         if isinstance(node, Scripted):
             port = next((p for p in (*cls.SCRIPT_PORTS, *cls.KEY_PORTS) if p in spec.ports), None)
             try:

@@ -112,8 +112,7 @@ def test_round_robin_behavior_jazzy_is_R_R_S_R_R_S():
 def test_round_robin_wrap_around_disabled_main():
     """test_round_robin_node.cpp (main) test_wrap_around_disabled: all fail -> FAILURE; and
     main's end-of-list rule: without wrap, a successful last child gives FAILURE too."""
-    rr, (a, b, c) = _round_robin(wrap_around=False)
-    rr.nav2_distro = "main"
+    rr, (a, b, c) = _round_robin(wrap_around=False, nav2_distro="main")
     a.change(F), b.change(F), c.change(F)
     assert tick(rr) == F
     a.change(S), b.change(S), c.change(S)

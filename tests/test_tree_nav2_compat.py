@@ -202,6 +202,25 @@ def test_distribution_from_file_attribute_option_and_default(tmp_path):
         load_xml(bad)
 
 
+def test_round_robin_gets_the_trees_distribution_at_build(tmp_path):
+    """The builder hands the distribution to the nodes that declare they follow one (RoundRobin)
+    through their constructor; other nodes get nothing. Nav2 main without wrap: a successful
+    last child ends the list with FAILURE; before main (and in navbt's own) it is SUCCESS."""
+    y = write(tmp_path, "t.yaml", "trees:\n  T:\n    RoundRobin:\n      wrap_around: false\n"
+                                  "      children: [AlwaysSuccess, AlwaysSuccess]\n")
+    expected = {None: ["SUCCESS", "SUCCESS", "FAILURE"], "jazzy": ["SUCCESS", "SUCCESS", "FAILURE"],
+                "main": ["SUCCESS", "FAILURE", "SUCCESS"]}
+    for distro, statuses in expected.items():
+        t = load_tree(y, nav2_distro=distro)
+        assert t.root.nav2_distro == distro
+        assert not any(hasattr(c, "nav2_distro") for c in t.root.children)
+        seen = []
+        for _ in range(3):
+            t.tick()
+            seen.append(t.status.name)
+        assert seen == statuses, distro
+
+
 def test_mission_nodes_lists_every_nav2_node_but_the_documented_few(capsys):
     """Every node type of the four distributions' palettes and plugin registrations is a navbt
     node, except NOT_PROVIDED, and docs/trees.md names each of those with its reason."""

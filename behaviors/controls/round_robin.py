@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Any, Iterable
+
+import py_trees
+
 from behaviors.base import (FAILURE, INVALID, RUNNING, SUCCESS, Control, PortInformation, Status,
                             Ticking)
 
@@ -24,9 +28,14 @@ class RoundRobin(Control):
                                        False),
     }
     OUTPUT_PORTS: dict[str, PortInformation] = {}
+    USES_NAV2_DISTRO = True
 
-    def __init__(self, *args, **kwargs) -> None:  # noqa: D107
-        super().__init__(*args, **kwargs)
+    def __init__(self, name: str = "",
+                 children: Iterable[py_trees.behaviour.Behaviour] | None = None,
+                 nav2_distro: str | None = None, **kwargs: Any) -> None:
+        """``nav2_distro``: the distribution the tree follows (None: navbt's own semantics)."""
+        super().__init__(name, children, **kwargs)
+        self.nav2_distro = nav2_distro
         self._index = 0
         self._failed = 0
 
@@ -51,7 +60,7 @@ class RoundRobin(Control):
             if exhausted and wrap:
                 self._index = 0
             if child.status is SUCCESS and exhausted and not wrap and \
-                    getattr(self, "nav2_distro", None) == "main":
+                    self.nav2_distro == "main":
                 break  # Nav2 main: the end of the list without wrap is FAILURE, even on success
             if child.status is SUCCESS:
                 self._failed = 0
