@@ -107,8 +107,8 @@ class NavNode(PortsMixin):
 
     DEFAULT_KEYS: ClassVar[dict[str, str]] = {}
     CATEGORY: ClassVar[str] = "Action"
-    # The node's place in its tree, set by the tree builder before ``wire``: it names the
-    # node's private keys (see _scoped_node_name). None: py_trees' uuid4 (nodes built by hand).
+    # The node's place in its tree, given to ``wire`` by the tree builder: it names the node's
+    # private keys (see _scoped_node_name). None: py_trees' uuid4 (nodes built by hand).
     private_tag: str | None = None
     # True for a node whose semantics changed between Nav2 distributions: the tree builder then
     # passes the tree's ``nav2_distro`` (None: navbt's own) to its constructor.
@@ -134,12 +134,16 @@ class NavNode(PortsMixin):
 
     # ---------------------------------------------------------------- wiring
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
-             literals: dict[str, Any] | None = None) -> None:
+             literals: dict[str, Any] | None = None, private_tag: str | None = None) -> None:
         """Connect the ports: ``refs`` port -> absolute key, ``literals`` port -> constant.
 
         Ports in neither use ``DEFAULT_KEYS`` (resolved inside ``namespace``), else their declared
-        default as a constant, else a private key that nothing writes.
+        default as a constant, else a private key that nothing writes: under the node's name and
+        ``private_tag`` (the tree builder's number for it, the same every build; see
+        _scoped_node_name).
         """
+        if private_tag is not None:
+            self.private_tag = private_tag
         refs = dict(refs or {})
         literals = dict(literals or {})
         for port, key in self.DEFAULT_KEYS.items():

@@ -268,9 +268,8 @@ class Builder:
         if cls.USES_NAV2_DISTRO:
             kwargs["nav2_distro"] = self.distro
         node = cls(name=spec.name or spec.type, **kwargs)
-        node.private_tag = str(index)
         try:
-            node.wire(scope.prefix, refs, literals)
+            node.wire(scope.prefix, refs, literals, private_tag=str(index))
         except (KeyError, ValueError, TypeError) as e:
             self.errors.append(spec.error(f"cannot wire ports: {e}"))
             return _Invalid(name=spec.label)

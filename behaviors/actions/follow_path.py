@@ -95,8 +95,8 @@ class FollowPath(Leaf):
         self._shim = RotationShim()
 
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
-             literals: dict[str, Any] | None = None) -> None:
-        super().wire(namespace, refs, literals)
+             literals: dict[str, Any] | None = None, private_tag: str | None = None) -> None:
+        super().wire(namespace, refs, literals, private_tag)
         # tracking feedback costs a path search each tick: only when the tree reads it
         self._feedback_wired = "tracking_feedback" in (refs or {})
 

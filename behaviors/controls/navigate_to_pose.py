@@ -43,20 +43,19 @@ class NavigateToPose(Control):
         super().__init__(name=name, children=[self._pipe], **kwargs)
 
     def wire(self, namespace: str, refs: dict[str, str] | None = None,
-             literals: dict[str, Any] | None = None) -> None:
-        super().wire(namespace, refs, literals)
-        for inner in (self._plan, self._rate, self._follow, self._pipe):
-            inner.private_tag = self.private_tag  # their names differ: their keys do too
+             literals: dict[str, Any] | None = None, private_tag: str | None = None) -> None:
+        super().wire(namespace, refs, literals, private_tag)
+        tag = self.private_tag  # the inner nodes' names differ, so their private keys do too
         lit = self._literals
         g = self.GOAL_PORT
         goal_ref = {} if g in lit else {g: self.port_key(g)}
         goal_lit = {g: lit[g]} if g in lit else {}
         self._plan.wire(namespace, goal_ref, {**goal_lit,
-                                              "planner_id": self.get_input("planner_id")})
-        self._rate.wire(namespace, {}, {"hz": self.get_input("replan_hz")})
+                                              "planner_id": self.get_input("planner_id")}, tag)
+        self._rate.wire(namespace, {}, {"hz": self.get_input("replan_hz")}, tag)
         self._follow.wire(namespace, {"path": namespaced(namespace, "path")},
-                          {"controller_id": self.get_input("controller_id")})
-        self._pipe.wire(namespace)
+                          {"controller_id": self.get_input("controller_id")}, tag)
+        self._pipe.wire(namespace, private_tag=tag)
 
     def tick(self) -> Ticking:
         self.begin_tick()
