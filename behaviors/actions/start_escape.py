@@ -7,7 +7,7 @@ from typing import Any
 
 from behaviors.actions.recovery_action import (CMD_VEL_OUT, ERROR_CODE_OUT, OBSERVED_IN,
                                               RecoveryAction)
-from behaviors.base import FAILURE, RUNNING, SUCCESS, Port, PortInformation, Status
+from behaviors.base import RUNNING, Port, PortInformation, Status
 from navcore.costmap.cost_values import INSCRIBED_INFLATED_OBSTACLE, LETHAL_OBSTACLE
 from navcore.error_codes import RecoveryError
 from navcore.motion.pursuit import CHECK_STEP
@@ -63,14 +63,12 @@ class StartEscape(RecoveryAction):
         pose = self.robot.pose()
         handle = self._handle()
         if handle is None:
-            self.report(RecoveryError.INVALID_INPUT, "no costmap")
-            return FAILURE
+            return self.finish(RecoveryError.INVALID_INPUT, "no costmap")
         cost = int(handle.footprint_cost(pose.x, pose.y, pose.theta))
         if 0 <= cost < INSCRIBED_INFLATED_OBSTACLE:
-            self.stop_motion()
             moved = 0.0 if self._from is None else pose.distance_to(self._from)
-            self.report(RecoveryError.NONE, f"footprint free (cost {cost}) after {moved:.2f} m")
-            return SUCCESS
+            return self.finish(RecoveryError.NONE,
+                               f"footprint free (cost {cost}) after {moved:.2f} m")
         if self.clock.now() - self._start > self.get_input("time_allowance"):
             return self.finish(RecoveryError.TIMEOUT, "time out, footprint still in inflated space")
         m = self._motion

@@ -6,7 +6,7 @@ from typing import Any
 
 from behaviors.actions.recovery_action import (RecoveryAction, CMD_VEL_OUT, ERROR_CODE_OUT,
                                               OBSERVED_IN, UNOBSERVED)
-from behaviors.base import FAILURE, RUNNING, Port, PortInformation, Status
+from behaviors.base import RUNNING, Port, PortInformation, Status
 from navcore.controllers.result import ControlStatus
 from navcore.error_codes import RecoveryError
 from navcore.motion.escape import arc_goal, rank_candidates
@@ -32,8 +32,8 @@ class TemporaryGoal(RecoveryAction):
     controller keep to space observed free within ``observed_within`` s. SUCCESS when the goal
     is reported reached or the robot is within ``xy_goal_tolerance``. FAILURE: NO_FREE_POSE,
     COLLISION_AHEAD (no valid command and the own pursuit is blocked too), UNOBSERVED_SPACE
-    (the way there was not observed free recently), TIMEOUT (``time_allowance`` spent, or no progress of
-    ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
+    (the way there was not observed free recently), TIMEOUT (``time_allowance`` spent, or no
+    progress of ``required_movement_radius`` within ``movement_time_allowance``). ``temporary_goal`` holds
     the chosen pose.
     """
 
@@ -135,8 +135,7 @@ class TemporaryGoal(RecoveryAction):
         planner = self.planners.get(self.get_input("planner_id"))
         controller = self.controllers.get(self.get_input("controller_id"))
         if planner is None or controller is None:
-            self.report(RecoveryError.INVALID_INPUT, "unknown planner or controller id")
-            return FAILURE
+            return self.finish(RecoveryError.INVALID_INPUT, "unknown planner or controller id")
         for _ in range(self.get_input("max_plans_per_tick")):
             if not self._candidates:
                 return self.finish(RecoveryError.NO_FREE_POSE, "no reachable free pose nearby")
@@ -191,15 +190,12 @@ class TemporaryGoal(RecoveryAction):
                 self.say("arc blocked; searching again")
                 return RUNNING
             if own is None:
-                self.stop_motion()
                 status = result.status if result is not None else "one arc"
                 if hit is not None and hit[1] == UNOBSERVED:
-                    self.report(RecoveryError.UNOBSERVED_SPACE,
-                                f"controller: {status}; the way was not observed free")
-                    return FAILURE
+                    return self.finish(RecoveryError.UNOBSERVED_SPACE,
+                                       f"controller: {status}; the way was not observed free")
                 why = f"blocked: cost {hit[1]}" if hit is not None else "no escape speed"
-                self.report(RecoveryError.COLLISION_AHEAD, f"controller: {status}; {why}")
-                return FAILURE
+                return self.finish(RecoveryError.COLLISION_AHEAD, f"controller: {status}; {why}")
             self._own, cmd = True, own
         self.write("cmd_vel", cmd)
         self.say("{:.2f} m to the temporary goal" + (" (own pursuit)" if self._own else ""),
