@@ -30,7 +30,7 @@ def tree_overhead(tree_path: str, steps: int = 2000) -> float:
     from navcore.clock import SimClock
     from navcore.types import Pose2D
     from executive.executive import Executive, _mission_ids
-    from executive.loading import load_tree_file
+    from executive.tree_loader import load_tree_file
     from executive.noop import KinematicRobot, noop_components
     from behaviors.base import FAILURE, SUCCESS
     ns = f"/bench_{next(_mission_ids)}"
@@ -55,7 +55,7 @@ def tree_overhead(tree_path: str, steps: int = 2000) -> float:
 
 def real_cycle(steps: int = 300) -> float:
     """Mean milliseconds per full control cycle on the demo scenario (real components)."""
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.mission import World, build_mission
     from executive.scenario import load_scenario, scenario_config
     from behaviors.base import FAILURE, SUCCESS

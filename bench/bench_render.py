@@ -92,7 +92,7 @@ def demo_case() -> dict[str, Any]:
 
 def run_once(case: dict[str, Any], record_dir: str | None) -> dict[str, Any]:
     from executive.config import load_config
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.mission import World, build_mission, run_mission
     from executive.recorder import Recorder
     from executive.run_folder import open_recorder

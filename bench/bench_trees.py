@@ -25,20 +25,20 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def load_ms(path: str, repeats: int = 20) -> float:
-    from executive.tree_loader import load_tree
-    load_tree(path, namespace="/load_warm")  # imports the node library once, outside the timing
+    from executive.tree_loader import load_tree_file
+    load_tree_file(path, namespace="/load_warm")  # imports the node library once, outside the timing
     t0 = _clock()
     for i in range(repeats):
-        load_tree(path, namespace=f"/load_{i}")
+        load_tree_file(path, namespace=f"/load_{i}")
     return 1e3 * (_clock() - t0) / repeats
 
 
 def tick_us(path: str, ticks: int = 3000) -> float:
     from behaviors.testing import NoopController, NoopPlanner, ScriptedWorld
-    from executive.tree_loader import load_tree
+    from executive.tree_loader import load_tree_file
     from navcore.types import Pose2D
     world = ScriptedWorld(planner=NoopPlanner(), controller=NoopController())
-    tree = load_tree(path, namespace=f"/tick_{os.path.basename(path).split('.')[0]}")
+    tree = load_tree_file(path, namespace=f"/tick_{os.path.basename(path).split('.')[0]}")
     tree.setup(**world.components())
     tree.set("goal", Pose2D(1000.0, 0.0, 0.0))
     for _ in range(50):
@@ -65,7 +65,7 @@ def main() -> None:
     from executive.tree_loader import SHIPPED_TREES, shipped_tree
     figures = {}
     for name in SHIPPED_TREES:
-        path = os.path.join(args.trees, f"{name}.yaml") if args.trees else str(shipped_tree(name))
+        path = os.path.join(args.trees, f"{name}.yaml") if args.trees else shipped_tree(name)
         figures[f"load_{name}_ms"] = round(load_ms(path), 2)
         figures[f"tick_{name}_us"] = round(tick_us(path), 1)
         print(f"{name:24s} load {figures[f'load_{name}_ms']:7.2f} ms   "

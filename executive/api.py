@@ -32,13 +32,13 @@ from executive.config import (ConfigError, ConfigSources, RobotConfig, config_fr
 from executive.config import load_config as _load_config_file
 from executive.errors import ExecutiveError, WiringError
 from executive.executive import Executive, new_namespace
-from executive.loading import TreeLoadError, load_tree_file, load_tree_text, shipped_tree
 from executive.mission import Mission, assemble, build_mission
 from executive.recorder import Recorder
 from executive.robot_io import hardware_mode
 from executive.stack import Stack
 from executive.task import Feedback, MissionResult, Task
-from executive.tree_loader import LoadedTree
+from executive.tree_loader import (LoadedTree, TreeLoadError, load_tree_file, load_tree_text,
+                                   shipped_tree)
 from executive.world import World, free_start
 
 __all__ = ["load_tree", "parse_tree", "load_config", "load_map", "shipped_tree", "free_start",

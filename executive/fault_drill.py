@@ -137,7 +137,7 @@ class _Perception:
 
 def _tree_file(kind: str, directory: str) -> str:
     from executive.tree_loader import shipped_tree
-    base = str(shipped_tree("move_base"))
+    base = shipped_tree("move_base")
     if kind != "tree_disables_timeout":
         return base
     path = os.path.join(directory, "disables_timeout.yaml")
@@ -158,11 +158,11 @@ def drill(kind: str, start: float = 4.0, seed: int = 0, stall: float = 1.5,
     if kind not in FAULTS:
         raise ValueError(f"drill: unknown fault {kind!r}; one of {', '.join(FAULTS)}")
     from executive.executive import new_namespace
-    from executive.loading import load_tree_file
     from executive.mission import assemble, perception_for
     from executive.robot_io import open_robot_io
     from executive.scenario import scenario_config, scenario_from_mapping
     from executive.stack import Stack
+    from executive.tree_loader import load_tree_file
     from executive.world import World
     sim_fault = {"laser_dropout": "laser_dropout", "laser_frozen": "laser_frozen"}.get(kind)
     doc = {"name": f"drill_{kind}", "map": {"resolution": 0.1, "ascii": _CORRIDOR},

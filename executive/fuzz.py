@@ -133,7 +133,7 @@ def seed_files(area: str) -> list[bytes]:
 def load(area: str, data: bytes, folder: str) -> str:
     """Run the loader of ``area`` on ``data`` (files written into ``folder``)."""
     from executive.config import ConfigError, SAFETY_PARAMS, load_config
-    from executive.loading import TreeLoadError, load_tree_file
+    from executive.tree_loader import TreeLoadError, load_tree_file
     from executive.scenario import ScenarioError, load_scenario
     from navcore.maps import MapError, load_map
     from navcore.params import Parameters

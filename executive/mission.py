@@ -2,7 +2,7 @@
 
 ``build_mission`` puts together what the other modules build: the ``Stack`` of components
 (executive/stack.py), the robot I/O (executive/robot_io.py), ``Perception``
-(executive/perception.py) and the tree (executive/loading.py), and hands them to an
+(executive/perception.py) and the tree (executive/tree_loader.py), and hands them to an
 ``Executive``. ``run_mission`` runs one to its goals and stops the robot whatever happened.
 """
 
@@ -22,8 +22,7 @@ from navcore.types import Pose2D
 from executive.config import RobotConfig
 from executive.errors import WiringError
 from executive.executive import Executive, MissionResult, new_namespace
-from executive.loading import load_tree_file
-from executive.tree_loader import LoadedTree
+from executive.tree_loader import LoadedTree, load_tree_file
 from executive.perception import Localisation, Perception, paint_phantom
 from executive.progress import progress_callback
 from executive.recorder import Recorder

@@ -1,6 +1,6 @@
 """Load behaviour trees from YAML (native) or BehaviorTree.CPP v4 XML, and export to XML.
 
->>> loaded = load_tree("trees/move_base.yaml", namespace="/mission_1")   # doctest: +SKIP
+>>> loaded = load_tree_file("trees/move_base.yaml", namespace="/mission_1")   # doctest: +SKIP
 >>> loaded.setup(clock=clock, robot=robot, planners=..., controllers=..., ...)
 >>> loaded.set("goal", Pose2D(5.0, 2.0, 0.0))
 >>> cmd = loaded.tick()          # one control period; zero Twist if nothing wrote cmd_vel
@@ -28,8 +28,8 @@ from executive.tree_xml import NAV2_IGNORED, read_xml, write_xml
 from executive.tree_yaml import read_yaml, write_yaml
 from navcore.types import Twist
 
-__all__ = ["LoadedTree", "TreeLoadError", "load_tree", "load_xml", "load_any", "load_text",
-           "to_xml", "to_yaml", "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
+__all__ = ["LoadedTree", "TreeLoadError", "load_tree_file", "load_tree_text", "to_xml", "to_yaml",
+           "shipped_tree", "SHIPPED_TREES", "TREES_DIR"]
 
 _BLACKBOARD = py_trees.blackboard.Blackboard  # its class-level ``storage`` holds every key
 TREES_DIR = Path(__file__).resolve().parent.parent / "trees"
@@ -191,13 +191,11 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
                 new_run()
 
 
-def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
-           nav2_distro: str | None = None, port_defaults: dict | None = None) -> LoadedTree:
+def _build(doc: TreeDoc, namespace: str, xml: bool, nav2_distro: str | None = None,
+           port_defaults: dict | None = None) -> LoadedTree:
     if not re.fullmatch(r"(/[A-Za-z0-9_]+)+/?", namespace):
         raise TreeLoadError(f"{doc.source}:1: namespace must be an absolute name like '/mission_1' "
                         f"(letters, digits, '_'; a '.' would nest keys), got {namespace!r}")
-    if main_tree is not None:
-        doc.main_tree = main_tree
     try:
         distro = doc.effective_distro(nav2_distro)
     except ValueError as e:
@@ -211,33 +209,25 @@ def _build(doc: TreeDoc, namespace: str, main_tree: str | None, xml: bool,
                       distro=distro, ignored=tuple(builder.ignored))
 
 
-def load_tree(path: str | os.PathLike, namespace: str = "/mission",
-              main_tree: str | None = None, nav2_distro: str | None = None,
-              port_defaults: dict | None = None) -> LoadedTree:
-    """Load a YAML tree file (with its includes), validate it and build it under ``namespace``.
+def load_tree_file(path: str | os.PathLike, namespace: str = "/mission",
+                   nav2_distro: str | None = None, port_defaults: dict | None = None
+                   ) -> LoadedTree:
+    """Load a tree file (with its includes), validate it and build it under ``namespace``:
+    BehaviorTree.CPP XML (Nav2 dialect) for a ``.xml`` file, navbt YAML otherwise.
 
     ``nav2_distro`` (humble, jazzy, kilted, main) overrides the distribution whose semantics
-    apply (the file's ``nav2_distro`` key, else navbt's own semantics)."""
-    return _build(read_yaml(path), namespace, main_tree, xml=False, nav2_distro=nav2_distro,
-                  port_defaults=port_defaults)
-
-
-def load_xml(path: str | os.PathLike, namespace: str = "/mission",
-             main_tree: str | None = None, nav2_distro: str | None = None,
-             port_defaults: dict | None = None) -> LoadedTree:
-    """Load a BehaviorTree.CPP XML file (Nav2 dialect) into the same node classes.
-
-    Semantics follow ``nav2_distro``, else the root's ``nav2_distro`` attribute, else jazzy
-    (humble for a BT.CPP 3 file, one without ``BTCPP_format``)."""
-    return _build(read_xml(path), namespace, main_tree, xml=True, nav2_distro=nav2_distro,
-                  port_defaults=port_defaults)
-
-
-def load_any(path: str | os.PathLike, namespace: str = "/mission",
-             nav2_distro: str | None = None, port_defaults: dict | None = None) -> LoadedTree:
-    """``load_xml`` for ``.xml`` files, ``load_tree`` otherwise."""
-    loader = load_xml if str(path).lower().endswith(".xml") else load_tree
-    return loader(path, namespace, nav2_distro=nav2_distro, port_defaults=port_defaults)
+    apply (else the file's own ``nav2_distro``; else navbt's semantics for YAML, jazzy for XML,
+    humble for a BT.CPP 3 file, one without ``BTCPP_format``). ``port_defaults`` (node type ->
+    {port: value}) fills ports the tree leaves unset."""
+    path = str(path)
+    if not os.path.exists(path):
+        raise TreeLoadError(f"{path}: no such tree file")
+    xml = path.lower().endswith(".xml")
+    try:
+        doc = read_xml(path) if xml else read_yaml(path)
+    except (OSError, UnicodeDecodeError) as e:
+        raise TreeLoadError(f"{path}: cannot read tree ({e})") from None
+    return _build(doc, namespace, xml, nav2_distro=nav2_distro, port_defaults=port_defaults)
 
 
 def _doc_and_main(tree: LoadedTree | TreeDoc, main_tree: str | None
@@ -248,13 +238,12 @@ def _doc_and_main(tree: LoadedTree | TreeDoc, main_tree: str | None
     return tree, main, tree.effective_distro()
 
 
-def load_text(text: str, namespace: str = "/mission", name: str = "<text>",
-              main_tree: str | None = None) -> LoadedTree:
+def load_tree_text(text: str, namespace: str = "/mission", name: str = "<text>") -> LoadedTree:
     """A tree from YAML or BT.CPP XML text (XML when it starts with ``<``); errors and relative
     includes name ``name`` as the file."""
     xml = text.lstrip().startswith("<")
     doc = read_xml(name, text=text) if xml else read_yaml(name, text=text)
-    return _build(doc, namespace, main_tree, xml=xml)
+    return _build(doc, namespace, xml)
 
 
 def to_xml(tree: LoadedTree | TreeDoc, main_tree: str | None = None) -> str:
@@ -277,10 +266,10 @@ def _doc_of(tree: LoadedTree) -> TreeDoc:
     return tree.doc
 
 
-def shipped_tree(name: str) -> Path:
-    """Path of a tree shipped in ``trees/`` (``move_base``, ``nav2``, ...)."""
+def shipped_tree(name: str) -> str:
+    """Path of a tree shipped in ``trees/`` (``move_base`` -> .../trees/move_base.yaml)."""
     path = TREES_DIR / (name if name.endswith((".yaml", ".xml")) else f"{name}.yaml")
     if not path.exists():
         from executive.tree_spec import did_you_mean
         raise TreeLoadError(f"{path}:1: no shipped tree '{name}'{did_you_mean(name, SHIPPED_TREES)}")
-    return path
+    return str(path)

@@ -43,7 +43,7 @@ REAL_MAPS = {
 def demo_run(tmp_path_factory) -> Path:
     """The demo scenario (stale doorway, three recoveries) recorded once per session: the run
     folder that the picture, replay-page, browser and MCAP tests read."""
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.scenario import load_scenario, run_scenario
     out = tmp_path_factory.mktemp("runs") / "demo"
     scenario = load_scenario(_HERE.parent / "executive" / "data" / "demo.yaml")

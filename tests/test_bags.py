@@ -20,7 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def _record(tmp_path, fmt):
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.mission import World, build_mission, run_mission
     from executive.recorder import Recorder
     from executive.scenario import load_scenario, scenario_config

@@ -14,7 +14,7 @@ from py_trees.common import Status
 from behaviors.base import make
 from behaviors.btcpp.scripting import ScriptError, compile_script, namespace_resolver
 from behaviors.testing import ScriptedWorld
-from executive.tree_loader import TreeLoadError, load_tree, load_xml, to_xml, to_yaml
+from executive.tree_loader import TreeLoadError, load_tree_file, to_xml, to_yaml
 
 S, F, R, I = Status.SUCCESS, Status.FAILURE, Status.RUNNING, Status.INVALID
 ST = py_trees.blackboard.Blackboard.storage
@@ -83,7 +83,7 @@ def write(tmp_path, name, text):
 
 def loaded(tmp_path, text, name="t.yaml"):
     p = write(tmp_path, name, text)
-    t = (load_xml if name.endswith(".xml") else load_tree)(p, namespace=f"/bt{next(_ns)}")
+    t = load_tree_file(p, namespace=f"/bt{next(_ns)}")
     w = ScriptedWorld()
     t.setup(**w.components())
     return t, w
@@ -124,7 +124,7 @@ def test_script_errors_are_load_errors_with_file_and_line(tmp_path):
                 - Wait: {wait_duration: 1.0, _skipIf: "x >"}
         """)
     with pytest.raises(TreeLoadError) as e:
-        load_tree(p)
+        load_tree_file(p)
     lines = str(e.value).splitlines()
     assert lines[0].endswith("t.yaml:5: Script: code: column 12: expected ')', found the end")
     assert lines[1].endswith("t.yaml:6: Wait: _skipIf: column 4: expected a value, found the "

@@ -148,19 +148,6 @@ def test_map_info_bundled(capsys):
 
 
 # ------------------------------------------------------------------ tree commands
-def _loader_available() -> bool:
-    try:
-        import executive.tree_loader  # noqa: F401
-        return hasattr(executive.tree_loader, "load_tree")
-    except ImportError:
-        return False
-
-
-needs_loader = pytest.mark.skipif(not _loader_available(),
-                                  reason="executive.tree_loader not available yet")
-
-
-@needs_loader
 def test_validate_render_broken_tree(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text("main_tree: T\ntrees:\n  T:\n    RateControler: {hz: 1.0, child: {Wait: {}}}\n")
@@ -173,7 +160,6 @@ def test_validate_render_broken_tree(tmp_path, capsys):
     assert code == 1 and "none.yaml: no such tree file" in err
 
 
-@needs_loader
 def test_validate_render_convert_shipped_trees(tmp_path, capsys):
     trees_dir = os.path.join(ROOT, "trees")
     files = sorted(os.path.join(trees_dir, f) for f in os.listdir(trees_dir)
@@ -212,7 +198,6 @@ def test_validate_render_convert_shipped_trees(tmp_path, capsys):
     assert code == 1 and "missing.xml: no such tree file" in err
 
 
-@needs_loader
 def test_nodes_listing_and_detail(capsys):
     code, out, _ = run_cli(capsys, "nodes")
     assert code == 0 and "RecoveryNode" in out
@@ -223,7 +208,6 @@ def test_nodes_listing_and_detail(capsys):
 
 
 # ------------------------------------------------------------------ end to end (simulator)
-@needs_loader
 def test_demo_runs_and_writes_run_folder(tmp_path, capsys):
     out_dir = tmp_path / "demo"
     code, out, err = run_cli(capsys, "demo", "--out", str(out_dir))
@@ -243,7 +227,6 @@ def test_demo_runs_and_writes_run_folder(tmp_path, capsys):
     assert code == 0 and out.startswith("tick 0/")
 
 
-@needs_loader
 def test_run_to_goals_and_errors(tmp_path, capsys):
     tree = os.path.join(ROOT, "trees", "smach_recovery.yaml")
     m = os.path.join(ROOT, "executive", "data", "maps", "two_rooms.yaml")
@@ -266,7 +249,6 @@ def test_run_to_goals_and_errors(tmp_path, capsys):
     assert code == 1 and "robot: devices: give {base: URL, laser: URL}" in err
 
 
-@needs_loader
 def test_scenario_run_table_and_json(tmp_path, capsys):
     s = tmp_path / "tiny.yaml"
     rows = ["#" * 30] + ["#" + "." * 28 + "#"] * 7 + ["#" + "." * 28 + "#"] * 7 + ["#" * 30]

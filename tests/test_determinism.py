@@ -13,7 +13,7 @@ from executive.cli import main
 from executive.mission import build_mission, run_mission
 from executive.recorder import Recorder
 from executive.scenario import load_scenario, scenario_config
-from executive.tree_loader import load_text, shipped_tree
+from executive.tree_loader import load_tree_text, shipped_tree
 from executive.world import World
 
 SCENARIOS = Path(__file__).resolve().parent / "scenarios"
@@ -23,7 +23,7 @@ def _ticks(name: str, tree: str) -> tuple[str, str]:
     sc = load_scenario(SCENARIOS / f"{name}.yaml")
     config = scenario_config(sc, None)
     stream, timing = io.StringIO(), io.StringIO()
-    mission = build_mission(str(shipped_tree(tree)), config, sc.grid, sc.start,
+    mission = build_mission(shipped_tree(tree), config, sc.grid, sc.start,
                             world=World(sc.objects, sc.moving, sc.phantoms, sc.faults),
                             seed=sc.seed, recorder=Recorder(stream, timing=timing),
                             meta={"scenario": sc.name})
@@ -118,7 +118,7 @@ def test_private_keys_are_named_by_place_in_the_tree_and_kept_apart_by_the_names
                 keys += [k for k in node._keys.values() if k.startswith(base)]
         return keys
 
-    a, b = load_text(text, namespace="/det_a"), load_text(text, namespace="/det_b")
+    a, b = load_tree_text(text, namespace="/det_a"), load_tree_text(text, namespace="/det_b")
     ka, kb = private(a), private(b)
     # both narrow nodes' free_width and the go nodes' inner nodes' private inputs
     assert sum(k.endswith("/free_width") for k in ka) == 2 and len(ka) > 2
@@ -126,5 +126,5 @@ def test_private_keys_are_named_by_place_in_the_tree_and_kept_apart_by_the_names
     assert not any(UUID4.search(k) for k in ka)
     assert [k.removeprefix("/det_a/") for k in ka] == [k.removeprefix("/det_b/") for k in kb]
     assert all(k.startswith("/det_a/") for k in ka) and not set(ka) & set(kb)
-    again = load_text(text, namespace="/det_a")          # the same tree built again: same keys
+    again = load_tree_text(text, namespace="/det_a")          # the same tree built again: same keys
     assert private(again) == ka

@@ -422,7 +422,6 @@ def test_overrun_is_recorded():
 def test_setup_failure_is_a_wiring_error(tmp_path):
     """A tree whose node cannot set up (here: a component it needs is missing) is one clear
     error naming the tree, not a traceback."""
-    pytest.importorskip("executive.tree_loader")
     from executive.config import load_config
     from executive.mission import WiringError, build_mission
     from navcore.synthetic_maps import ascii_map
@@ -452,7 +451,7 @@ def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
     # Before, the controller caught the TypeError and said "no valid trajectory", and the
     # shipped trees answered with Spin and BackUp. A bug now ends the mission: INTERNAL_ERROR,
     # no recovery fired, the robot stopped.
-    from executive.loading import load_tree_file
+    from executive.tree_loader import load_tree_file
     from executive.noop import KinematicRobot, noop_components
 
     class BuggyController:
@@ -488,7 +487,7 @@ def test_the_noop_robot_drives_its_goals_through_the_safety_gate(tree):
     # bench_executive times these trees driving the no-op robot to and fro. Its laser used to
     # repeat one scan while the robot moved: a frozen sensor to the safety gate, which held the
     # robot still while the tree spun through its recoveries.
-    from executive.loading import load_tree_file
+    from executive.tree_loader import load_tree_file
     from executive.noop import KinematicRobot, noop_components
 
     ns = f"/noop_drive_{tree}"

@@ -59,7 +59,7 @@ def pick_start_goal(grid, config):
 @pytest.mark.parametrize("tree", TREES)
 def test_tree_reaches_goal_on_real_map(shared_data, map_name, tree, tmp_path):
     from executive.config import load_config
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.mission import build_mission, run_mission
     from executive.recorder import Recorder
     from navcore.maps import load_map

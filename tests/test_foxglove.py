@@ -104,7 +104,7 @@ def test_json_numbers_as_json_writes_them():
 def test_live_run_serves_every_channel_on_loopback():
     websocket = pytest.importorskip("websocket", reason="websocket-client not installed")
     from executive.foxglove_out import FoxgloveSink
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.mission import World, build_mission, run_mission
     from executive.recorder import Recorder
     from executive.scenario import load_scenario, scenario_config

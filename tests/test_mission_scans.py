@@ -6,9 +6,9 @@ import os
 
 import numpy as np
 
-from executive.loading import shipped_tree
 from executive.mission import World, build_mission
 from executive.scenario import load_scenario, scenario_config
+from executive.tree_loader import shipped_tree
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

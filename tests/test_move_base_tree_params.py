@@ -7,7 +7,7 @@ import textwrap
 from pathlib import Path
 
 from executive.config import ConfigSources, load_config_sources
-from executive.loading import load_tree_file
+from executive.tree_loader import load_tree_file
 
 TREE = Path(__file__).resolve().parent.parent / "trees" / "move_base.yaml"
 

@@ -108,7 +108,7 @@ def test_nav2_smac_footprint_string_and_unknown_layer(tmp_path):
 
 
 def test_nav2_behavior_server_limits_become_recovery_ports(tmp_path):
-    from executive.loading import load_tree_file
+    from executive.tree_loader import load_tree_file
     p = tmp_path / "p.yaml"
     p.write_text(textwrap.dedent("""\
         behavior_server:

@@ -23,13 +23,13 @@ def test_routing_tree_drives_through_the_route(distro):
         pytest.skip("../shared/data not found (set NAVBT_DATA): Nav2's trees are not here")
     from executive.api import open_mission
     from executive.config import DEFAULT_CONFIG, config_from_mapping, read_config_doc
-    from executive.tree_loader import load_xml
+    from executive.tree_loader import load_tree_file
     from navcore.route import load_route_graph
     from navcore.types import Pose2D
     doc = dict(read_config_doc(DEFAULT_CONFIG))
     doc["route_server"] = {"graph_filepath": "office_route_graph.geojson"}
     config = config_from_mapping(doc, str(DEFAULT_CONFIG))
-    tree = load_xml(data / "nav2_trees" / distro / TREE, namespace=f"/route_{distro}")
+    tree = load_tree_file(data / "nav2_trees" / distro / TREE, namespace=f"/route_{distro}")
     nav = open_mission(tree, config, ROOT / "executive/data/maps/office.yaml",
                        Pose2D(2.0, 2.2, 0.0))
     visited: list[tuple[float, float]] = []

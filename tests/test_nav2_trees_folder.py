@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from executive import nav2_model
-from executive.tree_loader import load_tree, load_xml, to_xml, to_yaml
+from executive.tree_loader import load_tree_file, to_xml, to_yaml
 from tests.conftest import data_root
 
 ROOT = data_root()
@@ -37,18 +37,18 @@ def test_the_folder_is_there_or_skipped_with_reason():
 @pytest.mark.parametrize("path", FILES, ids=lambda p: f"{p.parent.name}/{p.name}")
 def test_nav2_tree_round_trip(path: Path, tmp_path):
     distro = path.parent.name
-    loaded = load_xml(path, namespace="/n2a", nav2_distro=distro)
+    loaded = load_tree_file(path, namespace="/n2a", nav2_distro=distro)
     assert loaded.distro == distro
     yaml_text = to_yaml(loaded)
     y = tmp_path / "t.yaml"
     y.write_text(yaml_text)
-    again = load_tree(y, namespace="/n2b")
+    again = load_tree_file(y, namespace="/n2b")
     assert again.distro == distro                       # nav2_distro travels with the file
     assert [type(n).__name__ for n in again.nodes()] == [type(n).__name__ for n in loaded.nodes()]
     xml_text = to_xml(again)
     x = tmp_path / "t.xml"
     x.write_text(xml_text)
-    third = load_xml(x, namespace="/n2c")
+    third = load_tree_file(x, namespace="/n2c")
     assert [type(n).__name__ for n in third.nodes()] == [type(n).__name__ for n in loaded.nodes()]
     # every element and attribute as written in Nav2's file
     original = _nodes(path.read_text())

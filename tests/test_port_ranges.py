@@ -9,7 +9,7 @@ import py_trees
 import pytest
 
 from behaviors.base import Port, make, node_classes, port_problem
-from executive.loading import TreeLoadError, load_tree_file
+from executive.tree_loader import TreeLoadError, load_tree_file
 
 
 def test_every_declared_default_fits_its_own_port() -> None:

@@ -12,10 +12,10 @@ from py_trees.common import Status
 from navcore.clock import SimClock
 from navcore.types import Pose2D
 from executive.executive import Executive
-from executive.loading import load_tree_file, shipped_tree
 from executive.recorder import Recorder, walk
 from executive.render import (KIND_STYLE, NodeStats, render_tree, stats_from_footer,
                               subtree_name, tree_dot)
+from executive.tree_loader import load_tree_file, shipped_tree
 from tests.test_executive import FakeIO
 
 

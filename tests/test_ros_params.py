@@ -249,7 +249,7 @@ def test_amcl_block_in_a_move_base_file_says_how_to_load_it(tmp_path):
 
 
 def test_recovery_list_as_a_tree_loads(tmp_path):
-    from executive.loading import load_tree_file
+    from executive.tree_loader import load_tree_file
     f = _files(tmp_path, mb="""\
         recovery_behaviors:
           - {name: reset, type: clear_costmap_recovery/ClearCostmapRecovery}

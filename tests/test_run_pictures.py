@@ -70,7 +70,7 @@ def test_amcl_run_shows_particles_and_localisation_error(tmp_path):
     replay page, and /particlecloud in run.mcap."""
     import os
 
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     from executive.replay_html import read_page_data
     from executive.scenario import load_scenario, run_scenario
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from executive.config import ConfigError, load_config
-from executive.loading import TreeLoadError, load_tree_file
 from executive.scenario import ScenarioError, load_scenario
+from executive.tree_loader import TreeLoadError, load_tree_file
 from navcore.maps import MapError, load_map
 from navcore.safe_read import (MAX_TEXT_BYTES, MAX_YAML_DEPTH, ReadError, load_yaml, parse_yaml,
                                read_bytes)

@@ -350,7 +350,7 @@ def test_smach_tree_lines_up_then_enters_a_bay_straight():
     from py_trees.visitors import VisitorBase
 
     from behaviors.testing import ScriptedController, ScriptedPlanner, run_tree
-    from executive.tree_loader import load_tree, shipped_tree
+    from executive.tree_loader import load_tree_file, shipped_tree
 
     g = room()
     goal = bay(g, "south", 0.72)
@@ -358,7 +358,7 @@ def test_smach_tree_lines_up_then_enters_a_bay_straight():
     w = ScriptedWorld(robot=FakeRobot(Pose2D(goal.x, 3.4, -math.pi / 2)), local_costmap=cm,
               global_costmap=cm, planner=ScriptedPlanner(), controller=ScriptedController(),
               control_period=0.1)
-    tree = load_tree(shipped_tree("smach_recovery"), namespace=f"/tightree{next(_ns)}")
+    tree = load_tree_file(shipped_tree("smach_recovery"), namespace=f"/tightree{next(_ns)}")
     done = {}
 
     class Visits(VisitorBase):

@@ -9,7 +9,7 @@ import pytest
 from py_trees.common import Status
 
 from behaviors.testing import ScriptedWorld, run_tree
-from executive.tree_loader import (SHIPPED_TREES, TreeLoadError, load_any, load_tree, load_xml,
+from executive.tree_loader import (SHIPPED_TREES, TreeLoadError, load_tree_file,
                                    shipped_tree, to_xml)
 from navcore.types import Pose2D
 
@@ -23,13 +23,13 @@ def write(tmp_path, name, text):
 def error_of(tmp_path, text, name="t.yaml"):
     p = write(tmp_path, name, text)
     with pytest.raises(TreeLoadError) as e:
-        load_any(p, "/err")
+        load_tree_file(p, "/err")
     return str(e.value).replace(str(tmp_path) + "/", "")
 
 
 @pytest.mark.parametrize("name", SHIPPED_TREES)
 def test_shipped_trees_load_and_export(name, tmp_path):
-    loaded = load_tree(shipped_tree(name), namespace=f"/{name}")
+    loaded = load_tree_file(shipped_tree(name), namespace=f"/{name}")
     assert loaded.root.status == Status.INVALID and len(loaded.nodes()) > 10
     xml = to_xml(loaded)
     root = ET.fromstring(xml)
@@ -37,14 +37,14 @@ def test_shipped_trees_load_and_export(name, tmp_path):
     assert root.find("TreeNodesModel") is not None
     p = tmp_path / f"{name}.xml"
     p.write_text(xml)
-    again = load_xml(p, namespace=f"/{name}_xml")
+    again = load_tree_file(p, namespace=f"/{name}_xml")
     assert [type(n).__name__ for n in again.nodes()] == [type(n).__name__ for n in loaded.nodes()]
     assert to_xml(again) == xml                          # the round trip is exact
 
 
 def test_two_missions_do_not_share_keys():
-    a = load_tree(shipped_tree("nav2"), namespace="/mission_a")
-    b = load_tree(shipped_tree("nav2"), namespace="/mission_b")
+    a = load_tree_file(shipped_tree("nav2"), namespace="/mission_a")
+    b = load_tree_file(shipped_tree("nav2"), namespace="/mission_b")
     wa, wb = ScriptedWorld(), ScriptedWorld()
     a.setup(**wa.components())
     b.setup(**wb.components())
@@ -174,7 +174,7 @@ def test_subtree_remapping_isolation_and_literals(tmp_path):
           Auto:
             ComputePathToPose: {goal: "{goal}", path: "{auto_path}"}
         """)
-    t = load_tree(p, "/m")
+    t = load_tree_file(p, "/m")
     keys = [(n.port_key("goal"), n.port_key("path")) for n in t.nodes()
             if type(n).__name__ == "ComputePathToPose"]
     assert keys == [("/m/isolated/target", "/m/isolated/out"), ("/m/goal", "/m/path"),
@@ -211,7 +211,7 @@ def test_include_brings_in_trees(tmp_path):
                 - NavigateToPose: {}
                 - SubTree: {id: Recoveries}
         """)
-    t = load_tree(p)
+    t = load_tree_file(p)
     assert [type(n).__name__ for n in t.nodes()][-4:] == ["Spin", "Wait", "RoundRobin",
                                                          "RecoveryNode"]
 
@@ -268,11 +268,11 @@ def test_nav2_xml_loads_and_unsupported_nodes_are_named(tmp_path):
         '<Sequence>\n              <WouldAPlannerRecoveryHelp',
         '<Sequence>\n              <AssistedTeleop/>\n              <WouldAPlannerRecoveryHelp'))
     with pytest.raises(TreeLoadError) as e:
-        load_xml(p)
+        load_tree_file(p)
     assert ("nav2.xml:11: AssistedTeleop: a Nav2 node (humble, jazzy, kilted, main) that navbt "
             "does not provide: needs a teleoperation input") in str(e.value)
     p2 = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
-    t = load_xml(p2, namespace="/x")
+    t = load_tree_file(p2, namespace="/x")
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
     assert [c.get_input("costmap") for c in clears] == ["global", "local", "local", "global"]
     w = ScriptedWorld()
@@ -293,10 +293,10 @@ def test_xml_errors_have_lines(tmp_path):
         </root>
         """)
     with pytest.raises(TreeLoadError, match=r"bad.xml:4: Wait: port 'wait_duration' expects"):
-        load_xml(p)
+        load_tree_file(p)
     p = write(tmp_path, "broken.xml", "<root>\n  <BehaviorTree ID='T'>\n</root>\n")
     with pytest.raises(TreeLoadError, match=r"broken.xml:3: not valid XML"):
-        load_xml(p)
+        load_tree_file(p)
 
 
 def test_py_trees_own_xml_parser_builds_our_nodes(tmp_path):
@@ -320,17 +320,17 @@ def test_py_trees_own_xml_parser_builds_our_nodes(tmp_path):
 
 def test_namespace_must_be_absolute():
     with pytest.raises(TreeLoadError, match="namespace must be an absolute name"):
-        load_tree(shipped_tree("nav2"), namespace="mission")
+        load_tree_file(shipped_tree("nav2"), namespace="mission")
 
 
 @pytest.mark.parametrize("name", SHIPPED_TREES)
 def test_yaml_export_round_trip(name, tmp_path):
     from executive.tree_loader import to_yaml
-    loaded = load_tree(shipped_tree(name), namespace="/y1")
+    loaded = load_tree_file(shipped_tree(name), namespace="/y1")
     text = to_yaml(loaded)
     p = tmp_path / "again.yaml"
     p.write_text(text)
-    again = load_tree(p, namespace="/y2")
+    again = load_tree_file(p, namespace="/y2")
     assert to_yaml(again) == text
     assert to_xml(again) == to_xml(loaded)
 
@@ -338,14 +338,14 @@ def test_yaml_export_round_trip(name, tmp_path):
 def test_xml_to_yaml_types_the_literals(tmp_path):
     from executive.tree_loader import to_yaml
     p = write(tmp_path, "nav2b.xml", NAV2_JAZZY)
-    text = to_yaml(load_xml(p))
+    text = to_yaml(load_tree_file(p))
     assert "wait_duration: 5.0" in text and "number_of_retries: 6" in text
     # Nav2's attributes stay as written (issue 19) and still pick the costmap
     assert "service_name: local_costmap/clear_entirely_local_costmap" in text
     assert "costmap:" not in text
     y = tmp_path / "nav2b.yaml"
     y.write_text(text)
-    t = load_tree(y)
+    t = load_tree_file(y)
     spin = next(n for n in t.nodes() if type(n).__name__ == "Spin")
     assert spin.get_input("spin_dist") == 1.57
     clears = [n for n in t.nodes() if type(n).__name__ == "ClearEntireCostmap"]
@@ -385,7 +385,7 @@ def test_a_read_key_nothing_writes_is_caught_when_it_is_a_typo(tmp_path):
           T:
             Wait: {wait_duration: "{operator_pause}"}
         """)
-    load_tree(p)                                   # an unrelated external key is fine
+    load_tree_file(p)                                   # an unrelated external key is fine
 
 
 def test_xml_include_and_subtree_remapping(tmp_path):
@@ -407,7 +407,7 @@ def test_xml_include_and_subtree_remapping(tmp_path):
           </BehaviorTree>
         </root>
         """)
-    t = load_xml(p, namespace="/xi")
+    t = load_tree_file(p, namespace="/xi")
     plan = next(n for n in t.nodes() if type(n).__name__ == "ComputePathToPose")
     assert (plan.port_key("goal"), plan.port_key("path")) == ("/xi/goal", "/xi/path")
     w = ScriptedWorld()
@@ -420,7 +420,7 @@ def test_xml_include_and_subtree_remapping(tmp_path):
 def test_tree_error_knows_file_line_and_excerpt(tmp_path):
     p = write(tmp_path, "t.yaml", "trees:\n  T:\n    Spin: {spin_dits: 1.0}\n")
     with pytest.raises(TreeLoadError) as e:
-        load_tree(p)
+        load_tree_file(p)
     assert e.value.file == str(p) and e.value.line == 3
     assert e.value.excerpt() == "    Spin: {spin_dits: 1.0}"
 

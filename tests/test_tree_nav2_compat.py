@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from executive.tree_loader import TreeLoadError, load_any, load_tree, load_xml, to_xml, to_yaml
+from executive.tree_loader import TreeLoadError, load_tree_file, to_xml, to_yaml
 from executive.tree_spec import TreeErrors
 
 
@@ -34,7 +34,7 @@ BROKEN = """
 def test_validate_reports_every_error_with_name_and_type(tmp_path):
     p = write(tmp_path, "bad.xml", BROKEN)
     with pytest.raises(TreeErrors) as e:
-        load_xml(p)
+        load_tree_file(p)
     lines = [str(x) for x in e.value.errors]
     assert len(lines) == 4
     assert lines[0].endswith("bad.xml:4: Pause (Wait): port 'wait_duration' expects float, "
@@ -68,7 +68,7 @@ def test_a_nav2_or_btcpp_node_gets_no_lookalike_suggestion(tmp_path):
         </root>
         """)
     with pytest.raises(TreeErrors) as e:
-        load_xml(p)
+        load_tree_file(p)
     a, b = (str(x) for x in e.value.errors)
     assert "DockRobot: a Nav2 node (jazzy, kilted, main)" in a and "did you mean" not in a
     assert "GoalUpdatedd: unknown node type (did you mean 'GoalUpdated'?)" in b
@@ -82,7 +82,7 @@ def test_xml_messages_name_main_tree_to_execute(tmp_path):
         </root>
         """)
     with pytest.raises(TreeLoadError, match="main_tree_to_execute 'Missing' is not defined"):
-        load_xml(p)
+        load_tree_file(p)
     p = write(tmp_path, "u.xml", """
         <root BTCPP_format="4">
           <BehaviorTree ID="T"><Wait/></BehaviorTree>
@@ -90,7 +90,7 @@ def test_xml_messages_name_main_tree_to_execute(tmp_path):
         </root>
         """)
     with pytest.raises(TreeLoadError, match="no 'main_tree_to_execute' saying which one runs"):
-        load_xml(p)
+        load_tree_file(p)
 
 
 def test_explicit_form_loads_and_round_trips(tmp_path):
@@ -104,7 +104,7 @@ def test_explicit_form_loads_and_round_trips(tmp_path):
           </BehaviorTree>
         </root>
         """)
-    t = load_xml(p)
+    t = load_tree_file(p)
     assert type(t.root).__name__ == "Sequence"
     assert [type(n).__name__ for n in t.root.children] == ["Wait", "GoalUpdated"]
     assert t.root.children[0].get_input("wait_duration") == 2.5
@@ -126,13 +126,13 @@ def test_service_name_picks_the_costmap_or_is_refused(tmp_path):
         </root>
         """)
     with pytest.raises(TreeErrors) as e:
-        load_xml(p)
+        load_tree_file(p)
     (err,) = e.value.errors
     assert "t.xml:6: Odd (ClearEntireCostmap): service_name 'my_costmap/clear' names neither " \
            "the local nor the global costmap" in str(err)
     p.write_text(p.read_text().replace('<ClearEntireCostmap name="Odd" service_name='
                                        '"my_costmap/clear"/>', ""))
-    t = load_xml(p)
+    t = load_tree_file(p)
     assert [n.get_input("costmap") for n in t.root.children] == ["local", "global"]
 
 
@@ -156,7 +156,7 @@ ROUND = """
 
 def test_round_trip_keeps_every_attribute_and_comment(tmp_path):
     p = write(tmp_path, "t.xml", ROUND)
-    t = load_xml(p)
+    t = load_tree_file(p)
     assert any("server_timeout" in note for note in t.ignored)
     text = to_yaml(t)
     for piece in ("server_timeout: '150'",
@@ -166,14 +166,14 @@ def test_round_trip_keeps_every_attribute_and_comment(tmp_path):
         assert piece in text
     y = tmp_path / "t.yaml"
     y.write_text(text)
-    again = load_tree(y)
+    again = load_tree_file(y)
     xml = to_xml(again)
     assert 'server_timeout="150"' in xml and 'server_timeout="10"' in xml
     assert "<!-- clear the local costmap first -->" in xml and "<!-- file comment -->" in xml
     assert 'nav2_distro="jazzy"' in xml
     x = tmp_path / "again.xml"
     x.write_text(xml)
-    assert to_yaml(load_xml(x)) == text
+    assert to_yaml(load_tree_file(x)) == text
 
 
 def test_distribution_from_file_attribute_option_and_default(tmp_path):
@@ -190,16 +190,16 @@ def test_distribution_from_file_attribute_option_and_default(tmp_path):
              ('BTCPP_format="4" nav2_distro="main"', "kilted", "kilted", True)]
     for i, (attrs, option, distro, wraps) in enumerate(cases):
         p = write(tmp_path, f"t{i}.xml", body.format(attrs=attrs))
-        t = load_any(p, nav2_distro=option)
+        t = load_tree_file(p, nav2_distro=option)
         assert t.distro == distro
         assert t.root.get_input("wrap_around") is wraps
     y = write(tmp_path, "t.yaml", "trees:\n  T:\n    RoundRobin: {children: [Wait, Wait]}\n")
-    assert load_tree(y).distro is None                      # navbt's own semantics
-    assert load_tree(y).root.get_input("wrap_around") is False
-    assert load_tree(y, nav2_distro="jazzy").root.get_input("wrap_around") is True
+    assert load_tree_file(y).distro is None                      # navbt's own semantics
+    assert load_tree_file(y).root.get_input("wrap_around") is False
+    assert load_tree_file(y, nav2_distro="jazzy").root.get_input("wrap_around") is True
     bad = write(tmp_path, "bad.xml", body.format(attrs='BTCPP_format="4" nav2_distro="iron"'))
     with pytest.raises(TreeLoadError, match="unknown Nav2 distribution 'iron'"):
-        load_xml(bad)
+        load_tree_file(bad)
 
 
 def test_round_robin_gets_the_trees_distribution_at_build(tmp_path):
@@ -211,7 +211,7 @@ def test_round_robin_gets_the_trees_distribution_at_build(tmp_path):
     expected = {None: ["SUCCESS", "SUCCESS", "FAILURE"], "jazzy": ["SUCCESS", "SUCCESS", "FAILURE"],
                 "main": ["SUCCESS", "FAILURE", "SUCCESS"]}
     for distro, statuses in expected.items():
-        t = load_tree(y, nav2_distro=distro)
+        t = load_tree_file(y, nav2_distro=distro)
         assert t.root.nav2_distro == distro
         assert not any(hasattr(c, "nav2_distro") for c in t.root.children)
         seen = []
@@ -266,7 +266,7 @@ def test_shipped_nav2_tree_exports_with_nav2_ports_only():
 
     from executive import nav2_model
     from executive.tree_loader import shipped_tree
-    t = load_tree(shipped_tree("nav2"))
+    t = load_tree_file(shipped_tree("nav2"))
     root = ET.fromstring(to_xml(t))
     for bt in root.findall("BehaviorTree"):
         for el in bt.iter():
@@ -313,7 +313,7 @@ def test_xml_structure_errors_are_reported_together(tmp_path):
         </root>
         """)
     with pytest.raises(TreeErrors) as e:
-        load_xml(p)
+        load_tree_file(p)
     lines = [str(x) for x in e.value.errors]
     assert lines[0].endswith("t.xml:3: <BehaviorTree> needs an ID")
     assert lines[1].endswith("t.xml:4: tree 'T' is also defined at " f"{p}:2")

@@ -16,7 +16,7 @@ from py_trees.visitors import VisitorBase
 
 from behaviors.testing import (FakeCostmap, ScriptedController, ScriptedPlanner, ScriptedWorld,
                                run_tree)
-from executive.tree_loader import SHIPPED_TREES, load_tree, shipped_tree
+from executive.tree_loader import SHIPPED_TREES, load_tree_file, shipped_tree
 from navcore.planners.result import PlanReason
 from navcore.types import Pose2D
 
@@ -42,7 +42,7 @@ class Runs(VisitorBase):
 
 
 def start(name: str, world: ScriptedWorld, goal: Pose2D = GOAL):
-    tree = load_tree(shipped_tree(name), namespace=f"/sys{next(_ns)}")
+    tree = load_tree_file(shipped_tree(name), namespace=f"/sys{next(_ns)}")
     runs = Runs()
     tree.tree.add_visitor(runs)
     tree.setup(**world.components())

@@ -17,7 +17,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from executive.loading import TreeLoadError, convert_tree_file
+    from executive.tree_loader import TreeLoadError, load_tree_file, to_xml, to_yaml
     target = args.to
     if target is None and args.output:
         target = "xml" if args.output.endswith(".xml") else "yaml" if args.output.endswith(
@@ -25,7 +25,8 @@ def run(args: argparse.Namespace) -> int:
     if target is None:
         target = "yaml" if args.tree.endswith(".xml") else "xml"
     try:
-        text = convert_tree_file(args.tree, target, args.nav2_distro)
+        loaded = load_tree_file(args.tree, namespace="/convert", nav2_distro=args.nav2_distro)
+        text = to_xml(loaded) if target == "xml" else to_yaml(loaded)
     except TreeLoadError as e:
         return fail("convert", str(e))
     if args.output:

@@ -24,14 +24,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import os
 
-    from executive import tree_loader
     from executive.render import RenderError, render_tree
-    from executive.tree_spec import TreeLoadError
-    if not os.path.exists(args.tree):
-        return fail("render", f"{args.tree}: no such tree file")
+    from executive.tree_loader import TreeLoadError, load_tree_file
     collapse = ["*" if c == "all" else c for c in args.collapse]
     try:
-        loaded = tree_loader.load_any(args.tree, namespace="/render")
+        loaded = load_tree_file(args.tree, namespace="/render")
         data = render_tree(loaded.root, args.format, ports=args.ports, collapse=collapse,
                            title=loaded.main_tree) if args.format != "txt" else \
             render_tree(loaded.root, "txt")

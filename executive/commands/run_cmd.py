@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         tree = args.tree
         if args.nav2_distro:  # the semantics of that Nav2 distribution (docs/trees.md)
-            from executive.loading import load_tree_file
+            from executive.tree_loader import load_tree_file
             tree = load_tree_file(args.tree, namespace="/mission_run",
                                   nav2_distro=args.nav2_distro,
                                   port_defaults=config.port_defaults())

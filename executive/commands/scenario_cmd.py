@@ -75,10 +75,10 @@ def check_files(files: list[str], config: Any = None) -> tuple[list, list[str]]:
 def run(args: argparse.Namespace) -> int:
     import os
 
-    from executive.loading import TreeLoadError, load_tree_file, shipped_tree
     from executive.scenarios.parse import load_scenario, parse_seeds, scenario_files
     from executive.scenarios.run import junit_xml, run_tasks, tasks_for, verdicts
     from executive.scenarios.source import ScenarioError
+    from executive.tree_loader import TreeLoadError, load_tree_file, shipped_tree
     if args.action is None:
         return fail("scenario", "give an action: run or check (see mission scenario --help)")
     files = scenario_files(args.paths)

@@ -29,7 +29,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from executive.loading import TreeLoadError, load_tree_file
+    from executive.tree_loader import TreeLoadError, load_tree_file
     bad = 0
     sources = config_sources(args)
     if sources.config or sources.has_ros():

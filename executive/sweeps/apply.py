@@ -150,7 +150,7 @@ def tree_with_ports(tree_path: str, point: Mapping[str, Any], out_dir: str | Non
     """The tree file to run for a point: ``tree_path`` itself when the point sets no port, else a
     file of the same name in ``out_dir`` (a temporary folder when None) with the ports set. The
     written tree is loaded once, so a bad port or value raises ApplyError."""
-    from executive.loading import TreeLoadError, load_tree_file
+    from executive.tree_loader import TreeLoadError, load_tree_file
     _, ports = split_point(point)
     if not ports:
         return tree_path

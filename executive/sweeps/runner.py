@@ -41,7 +41,7 @@ def warm_worker() -> str:
     """Compile (or load from numba's cache) the kernels a run needs, once per worker process."""
     global warmed
     from executive.scenario import run_scenario, scenario_from_mapping
-    from executive.loading import shipped_tree
+    from executive.tree_loader import shipped_tree
     doc = {"name": "warmup", "map": {"resolution": 0.1, "ascii": "\n".join(
         ["#" * 24] + ["#" + "." * 22 + "#"] * 10 + ["#" * 24])},
         "start": [0.5, 0.5, 0.0], "goals": [[1.5, 0.5, 0.0]], "time_limit": 5}

@@ -357,7 +357,7 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     if "trees" in doc:
         trees = _paths(doc["trees"], base, "trees", err, globbing=False)
     else:
-        from executive.loading import shipped_tree
+        from executive.tree_loader import shipped_tree
         trees = [shipped_tree("smach_recovery")]
     config = _config(doc, base, err)
     time_limit = doc.get("time_limit")
@@ -409,7 +409,7 @@ def check_spec(spec: SweepSpec, err: _Where,
     """Load every scenario and tree, and apply every point (and the search bounds) to them, so
     that a bad name or value is reported now with its line, not after an hour of running.
     ``origins`` (from ``expand_points``) lets the error name the line of the bad value."""
-    from executive.loading import TreeLoadError, load_tree_file
+    from executive.tree_loader import TreeLoadError, load_tree_file
     from executive.scenario import ScenarioError, load_scenario
 
     from executive.sweeps.apply import ApplyError, apply_point, tree_with_ports
