@@ -55,10 +55,16 @@ def _tree_path(path: str | os.PathLike) -> str:
     return path
 
 
-def load_tree(path: str | os.PathLike) -> LoadedTree:
+def load_tree(path: str | os.PathLike, config: RobotConfig | None = None,
+              nav2_distro: str | None = None) -> LoadedTree:
     """A YAML or BT.CPP XML tree file (or the name of a shipped tree: ``"nav2"``), built under
-    a blackboard namespace of its own. Errors are ``TreeLoadError`` naming file, line, node."""
-    return load_tree_file(_tree_path(path), namespace=new_namespace())
+    a blackboard namespace of its own. ``config``: the robot config whose server parameters
+    fill the ports the tree leaves unset (``behavior_server``, ``move_base``), as
+    ``open_mission`` does for a tree given by path. ``nav2_distro`` (humble, jazzy, kilted,
+    main): the Nav2 distribution whose semantics apply, over the file's own (docs/trees.md).
+    Errors are ``TreeLoadError`` naming file, line, node."""
+    return load_tree_file(_tree_path(path), namespace=new_namespace(), nav2_distro=nav2_distro,
+                          port_defaults=None if config is None else config.port_defaults())
 
 
 def parse_tree(text: str, name: str = "<text>") -> LoadedTree:
@@ -86,10 +92,7 @@ def _grid(grid: OccupancyGrid | str | os.PathLike) -> OccupancyGrid:
 def _tree(tree: LoadedTree | str | os.PathLike, config: RobotConfig) -> LoadedTree:
     """A loaded tree as given, or loaded from its path with the config's port defaults (as
     ``build_mission`` loads one)."""
-    if isinstance(tree, LoadedTree):
-        return tree
-    return load_tree_file(_tree_path(tree), namespace=new_namespace(),
-                          port_defaults=config.port_defaults())
+    return tree if isinstance(tree, LoadedTree) else load_tree(tree, config)
 
 
 def open_mission(tree: LoadedTree | str | os.PathLike, config: RobotConfig | None = None,
@@ -181,6 +184,23 @@ class Navigator:
             raise ValueError("follow_waypoints: no poses given")
         self._check_open()
         self._task = Task(self.executive, goals, time_limit)
+
+    def update_goal(self, pose: Pose2D) -> None:
+        """Replace the goal the running task drives to, keeping the tree running: Nav2's
+        navigator on a pre-empting goal for the same tree. The new goal goes on the
+        blackboard (``goal``, ``goals``); the tree reacts to it (``GoalUpdated``). Unlike
+        ``go_to_pose``, the task, its clock and its counts go on."""
+        self._running_task("update_goal").update_goal(pose)
+
+    def add_waypoint(self, pose: Pose2D) -> None:
+        """Append ``pose`` to the running task's waypoints (visited after the others)."""
+        self._running_task("add_waypoint").add_goal(pose)
+
+    def _running_task(self, what: str) -> Task:
+        self._check_open()
+        if self._task is None or self._task.done:
+            raise RuntimeError(f"Navigator.{what}: no running task")
+        return self._task
 
     def cancel_task(self) -> None:
         """Stop the running task: the tree is halted and the base gets zero velocity."""

@@ -110,6 +110,18 @@ class Task:
             self.finish("timeout", f"time limit {self.time_limit:g} s reached")
         return self.result is not None
 
+    def update_goal(self, goal: Pose2D) -> None:
+        """Replace the goal being driven to without restarting the tree, as Nav2's navigator
+        takes a pre-empting goal: the new goal goes on the blackboard (``goal``, ``goals``)
+        and the tree decides what to do about it (``GoalUpdated``)."""
+        self.goals[self.index] = goal
+        self.executive.handle.set("goal", goal)
+        self.executive.handle.set("goals", [goal])
+
+    def add_goal(self, goal: Pose2D) -> None:
+        """Append a goal, visited after the others."""
+        self.goals.append(goal)
+
     def run(self, on_tick: Callable[[Any], bool | None] | None = None) -> MissionResult:
         """Step until the task ends; its result."""
         while not self.step(on_tick):

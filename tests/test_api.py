@@ -75,6 +75,17 @@ def test_load_tree_by_shipped_name_gets_a_namespace_of_its_own():
     assert a.source.endswith("trees/nav2.yaml") and a.namespace != b.namespace
 
 
+def test_load_tree_takes_the_configs_port_defaults_and_a_nav2_distro():
+    config = load_config({"behavior_server": {"max_rotational_vel": 0.5}})
+
+    def spin_limits(tree):
+        return [n.get_input("max_rotational_vel") for n in tree.root.iterate()
+                if type(n).__name__ == "Spin"]
+    plain, tuned = load_tree("nav2"), load_tree("nav2", config, nav2_distro="humble")
+    assert spin_limits(plain) == [1.0] and spin_limits(tuned) == [0.5]
+    assert plain.distro is None and tuned.distro == "humble"
+
+
 def test_executive_refuses_a_namespace_other_than_its_trees(config):
     tree = load_tree("nav2")
     with pytest.raises(ValueError, match="not the tree's"):
@@ -133,6 +144,33 @@ def test_a_new_goal_replaces_the_running_task_and_cancel_stops_the_base(config):
     # the second task's own figures: its 5 cycles, not the first task's 15 too
     assert result.ticks == 5 and nav.executive.tick_count == 20
     assert 0.0 < result.distance < nav.executive.trace.distance() - 0.1
+    nav.close()
+
+
+def test_update_goal_keeps_the_task_running_and_add_waypoint_extends_it(config):
+    nav, robot = _robot_mission(config)
+    with pytest.raises(RuntimeError, match="no running task"):
+        nav.update_goal(Pose2D(2.0, 1.2))
+    nav.go_to_pose(Pose2D(4.0, 1.2))
+    for _ in range(15):
+        nav.step()
+    task, started = nav._task, len(nav.executive.trace.goals)
+    nav.update_goal(Pose2D(2.5, 1.6))
+    # Nav2's pre-emption: the same task and the tree still running, the new goal on the board
+    assert nav._task is task and nav.executive.tree.root.status.name == "RUNNING"
+    assert nav.blackboard("goal") == Pose2D(2.5, 1.6)
+    assert nav.blackboard("goals") == [Pose2D(2.5, 1.6)]
+    assert len(nav.executive.trace.goals) == started          # no new goal was started
+    fb = nav.get_feedback()
+    assert fb.goal == Pose2D(2.5, 1.6) and fb.current_waypoint == 0
+    assert fb.navigation_time == pytest.approx(1.5)          # the task's clock goes on
+    nav.add_waypoint(Pose2D(1.5, 1.2))
+    result = nav.run(time_limit=60.0)
+    assert result.succeeded and (result.goals_reached, result.goals_total) == (2, 2)
+    assert result.ticks > 15                                  # counted from the task's start
+    assert robot.pose.distance_to(Pose2D(1.5, 1.2)) < 0.5
+    with pytest.raises(RuntimeError, match="no running task"):
+        nav.add_waypoint(Pose2D(2.0, 1.2))
     nav.close()
 
 

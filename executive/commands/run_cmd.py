@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     import os
     import sys
 
-    from executive.api import ConfigError, TreeLoadError, WiringError, open_mission
+    from executive.api import ConfigError, TreeLoadError, WiringError, load_tree, open_mission
     from executive.progress import Progress, progress_callback
     from executive.recorder import Recorder
     from navcore.maps import MapError, load_map
@@ -91,10 +91,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         tree = args.tree
         if args.nav2_distro:  # the semantics of that Nav2 distribution (docs/trees.md)
-            from executive.tree_loader import load_tree_file
-            tree = load_tree_file(args.tree, namespace="/mission_run",
-                                  nav2_distro=args.nav2_distro,
-                                  port_defaults=config.port_defaults())
+            tree = load_tree(args.tree, config, nav2_distro=args.nav2_distro)
         # on hardware the robot is where it is: AMCL starts from --start or amcl.initial_pose_*
         nav = open_mission(tree, config, grid, args.start, seed=args.seed,
                            realtime=args.realtime, recorder=recorder,

@@ -3,9 +3,12 @@ multi-seed verdicts and JUnit XML.
 
 ``run_scenario`` never raises for a problem of the run itself: a broken scenario, a tree that does
 not load or an exception while running gives a result with outcome ``error`` (and the message),
-so a batch never loses the results it already has. Each run owns its loop over
-``Executive.step`` so that events can change the goal, the world, faults, phantoms and parameters
-at their time, and so that the recorded end reason is the error code that caused the end.
+so a batch never loses the results it already has. Each run drives its mission through the
+public API (executive/api.py: ``open_mission``, ``Navigator.follow_waypoints``, ``run(on_tick=)``);
+the ``on_tick`` hook applies the events at their time (a goal through ``update_goal`` /
+``add_waypoint``; the world, faults, phantoms and parameters through the executive it is handed)
+and notes what the record needs: the body's true motion, the recoveries, and the error code that
+caused the end.
 """
 
 from __future__ import annotations
@@ -171,11 +174,10 @@ class _Tracker:
 class _Events:
     """Applies a scenario's events to a running mission at their time."""
 
-    def __init__(self, scenario: Scenario, mission: Any, goals: list[Pose2D]) -> None:
+    def __init__(self, scenario: Scenario, nav: Any) -> None:
         self.pending = list(scenario.events)
         self.t0 = 0.0           # the clock at the start: event times are relative to it
-        self.mission = mission
-        self.goals = goals
+        self.nav = nav          # executive.api.Navigator
         self.fired: dict[str, float] = {}
         self.goal_changes: list[float] = []
         self.added: dict[str, Any] = {}
@@ -195,40 +197,36 @@ class _Events:
                      None)
         return first is not None and now + self.t0 >= first["t"] + ev.delay - 1e-9
 
-    def apply_due(self, now: float, index: int, recoveries: list[dict[str, Any]]) -> None:
+    def apply_due(self, ex: Any, now: float, recoveries: list[dict[str, Any]]) -> None:
         if not self.pending:
             return
         still = []
         for ev in self.pending:
             if self.due(ev, now, recoveries):
-                self.apply(ev, now, index)
+                self.apply(ex, ev, now)
                 self.fired[ev.name] = now
             else:
                 still.append(ev)
         self.pending = still
 
-    def _costmaps(self, which: str) -> list[Any]:
-        c = self.mission.components
+    @staticmethod
+    def _costmaps(ex: Any, which: str) -> list[Any]:
+        c = ex.components
         return {"global": [c["global_costmap"]], "local": [c["local_costmap"]],
                 "both": [c["global_costmap"], c["local_costmap"]]}[which]
 
-    def apply(self, ev: Event, now: float, index: int) -> None:
-        import py_trees
-
+    def apply(self, ex: Any, ev: Event, now: float) -> None:
+        """Apply one event to the running mission; ``ex``: the executive ``on_tick`` was given."""
         from executive.perception import paint_phantom
-        ex, sim = self.mission.executive, self.mission.sim
+        sim = self.nav.sim
         a = ev.action
         if a == "goal":
-            # Nav2's pre-emption: the navigator puts the new goal on the blackboard and the
-            # tree (GoalUpdated) decides what to do with a running recovery
-            if index < len(self.goals):
-                self.goals[index] = ev.arg
-                storage = py_trees.blackboard.Blackboard.storage
-                storage[f"{ex.namespace}/goal"] = ev.arg
-                storage[f"{ex.namespace}/goals"] = [ev.arg]
-                self.goal_changes.append(now)
+            # Nav2's pre-emption: the new goal goes on the blackboard and the tree
+            # (GoalUpdated) decides what to do with a running recovery
+            self.nav.update_goal(ev.arg)
+            self.goal_changes.append(now)
         elif a == "add_goal":
-            self.goals.append(ev.arg)
+            self.nav.add_waypoint(ev.arg)
         elif a == "add":
             from hw.sim import Box, Circle
             s = ev.arg
@@ -250,20 +248,20 @@ class _Events:
             sim.end_faults(ev.arg, now)
         elif a == "phantom":
             shape, which = ev.arg
-            for cm in self._costmaps(which):
+            for cm in self._costmaps(ex, which):
                 paint_phantom(cm, shape)
             if shape.name:
                 self.phantoms[shape.name] = (shape, which)
         elif a in ("move_phantom", "remove_phantom"):
             shape, which = self.phantoms[ev.arg]
-            for cm in self._costmaps(which):
+            for cm in self._costmaps(ex, which):
                 clear_shape(cm, shape)
                 if a == "move_phantom":
                     paint_phantom(cm, ev.to)
             if a == "move_phantom":
                 self.phantoms[ev.arg] = (ev.to, which)
         elif a == "set":
-            params = self.mission.components["parameters"]
+            params = ex.components["parameters"]
             for ns, values in ev.arg.items():
                 if ns not in params:
                     raise ScenarioError(f"event {ev.name}: set: no namespace {ns!r}")
@@ -271,15 +269,16 @@ class _Events:
 
 
 class _TickHook:
-    """What a scenario run does after each cycle (``Task.run``'s ``on_tick``): track the body
-    and the recoveries, apply the events now due, note the recoveries a goal change pre-empts,
-    stop at the wall-clock limit, then call the caller's ``on_tick``."""
+    """What a scenario run does after each cycle (``Navigator.run``'s ``on_tick``): track the
+    body and the recoveries, apply the events now due, note the recoveries a goal change
+    pre-empts, stop at the wall-clock limit, then call the caller's ``on_tick``. ``t0``: the
+    clock when the task began."""
 
-    def __init__(self, source: str, tracker: _Tracker, events: _Events, task: Any, wall: Any,
+    def __init__(self, source: str, tracker: _Tracker, events: _Events, t0: float, wall: Any,
                  limit_wall: float, on_tick: Callable[[Any], Any] | None) -> None:
-        self.source, self.tracker, self.events, self.task = source, tracker, events, task
+        self.source, self.tracker, self.events = source, tracker, events
         self.wall, self.limit_wall, self.on_tick = wall, limit_wall, on_tick
-        self.t0 = task.t0
+        self.t0 = t0
         self.ticks = 0
         # (recovery name, goal-change time, end of that recovery): end filled in after the run
         self.preempts: list[tuple[str, float, float]] = []
@@ -291,7 +290,7 @@ class _TickHook:
         tracker.now = ex.clock.now()       # the visitor's time for the next tick
         self.ticks += 1
         n = len(events.goal_changes)
-        events.apply_due(now - t0, self.task.index, tracker.records)
+        events.apply_due(ex, now - t0, tracker.records)
         if len(events.goal_changes) > n:
             for r in tracker.open_recoveries():
                 self.preempts.append((r["name"], now - t0, -1.0))
@@ -360,7 +359,6 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
     from executive.recorder import Recorder
     from executive.scenarios.generate import materialize
     from executive.scenarios.profiles import scenario_config
-    from executive.task import Task
     from executive.world import World
     sc = materialize(scenario, seed)
     try:
@@ -378,16 +376,18 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
                            recorder=recorder, meta={"scenario": sc.name, "seed": seed},
                            hardware=hardware)
         try:
+            # the tracker watches every node tick (a py_trees visitor), so it goes on the tree
+            # before the first cycle: the executive of the API (``nav.executive``)
             ex = nav.executive
             tracker = _Tracker(ex, nav.sim)
-            task = Task(ex, list(sc.goals), sc.time_limit)
-            events = _Events(sc, nav.mission, task.goals)
-            t0 = task.t0
+            nav.follow_waypoints(sc.goals, sc.time_limit)
+            t0 = nav.clock.now()     # the task's start: event and record times count from it
+            events = _Events(sc, nav)
             events.t0 = t0
             tracker.now = t0
-            hook = _TickHook(sc.source, tracker, events, task, wall, limit_wall, on_tick)
-            result = task.run(hook)
-            outcome, index = result.outcome, task.index
+            hook = _TickHook(sc.source, tracker, events, t0, wall, limit_wall, on_tick)
+            result = nav.run(on_tick=hook)
+            outcome = result.outcome
             reason, detail = "", ""
             if outcome == "failed":
                 if ex.internal_error is not None or (
@@ -424,16 +424,15 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
                               "reason": reason},
                        obstacles=[s.polygon() for s in sc.objects],
                        phantoms=[shape.polygon() for shape, _ in sc.phantoms])
-            truth = nav.sim.true_pose() if nav.sim is not None else ex.robot.pose()
+            truth = nav.sim.true_pose() if nav.sim is not None else nav.pose()
+            goal = nav.get_feedback().goal      # the goal being driven to at the end
         finally:
             nav.close()       # drivers and emulators of hardware="emulated" too
     finally:
         recorder.close()
-    goals = task.goals
-    reached = result.goals_reached
-    goal = goals[min(index, len(goals) - 1)]
+    reached, total = result.goals_reached, result.goals_total
     t = np.asarray(tracker.t) - t0
-    rec = RunRecord(outcome, reason, sim_time, reached, len(goals), truth, goal,
+    rec = RunRecord(outcome, reason, sim_time, reached, total, truth, goal,
                     collisions, tracker.records, t, np.asarray(tracker.x),
                     np.asarray(tracker.y), np.asarray(tracker.v), np.asarray(tracker.w),
                     events.fired, preempts)
@@ -443,7 +442,7 @@ def _run(scenario: Scenario, tree_path: str, tree_name: str, record_dir: str | N
         outcome == "succeeded" and collisions == 0, not failures, failures, reason, detail,
         record_dir, scenario.known_issue_for(tree_name), seed, sc.source,
         [round(truth.x, 3), round(truth.y, 3), round(truth.theta, 3)],
-        math.hypot(truth.x - goal.x, truth.y - goal.y), reached, len(goals), result.distance,
+        math.hypot(truth.x - goal.x, truth.y - goal.y), reached, total, result.distance,
         dict(events.fired))
 
 
