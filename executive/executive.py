@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import operator
 import traceback
 from types import TracebackType
 from dataclasses import dataclass, field
@@ -40,6 +41,7 @@ from executive.task import MissionResult, Task
 from executive.tree_loader import LoadedTree
 
 _mission_ids = itertools.count(1)
+_STARTS = operator.attrgetter("recovery_starts")
 
 
 def new_namespace() -> str:
@@ -191,10 +193,13 @@ class Executive:
     # --- what the nodes did ------------------------------------------------------------------
     def _note_recoveries(self) -> None:
         """An event for each recovery node that started a run in this tick."""
+        starts = list(map(_STARTS, self._recoveries))  # the usual tick: none, one C loop
         seen = self._recovery_starts
+        if starts == seen:
+            return
+        self._recovery_starts = starts
         for i, node in enumerate(self._recoveries):
-            if node.recovery_starts != seen[i]:
-                seen[i] = node.recovery_starts
+            if starts[i] != seen[i]:
                 p = self.robot.pose()
                 event = {"recovery": node.name, "type": type(node).__name__,
                          "t": round(self.clock.now(), 3), "pose": [round(p.x, 3), round(p.y, 3)]}
