@@ -3,9 +3,10 @@
 In the style of Nav2's behaviour-tree system tests: a kinematic robot that integrates the
 commanded velocity, costmaps that count clearings and answer footprint queries from a function,
 a planner and a controller that fail on the calls you choose, and ``run_tree``, the control loop
-in miniature (tick, integrate, advance the clock). Also usable as no-op components for
-benchmarks of tree overhead. The one set of component doubles: executive/noop.py builds its
-components from these and adds only a robot I/O.
+in miniature (tick, integrate, advance the clock). With ``fixed_path`` / ``fixed_command`` the
+planner and controller cost next to nothing (benchmarks of tree overhead); ``noop_components``
+assembles the doubles for an Executive. The robot I/O double the Executive drives is
+hw/testing.py's ``KinematicRobot`` (RobotIO is hw's interface, which behaviors must not import).
 """
 
 from __future__ import annotations
@@ -116,11 +117,12 @@ def _in(i: int, which: Iterable[int] | Callable[[int], bool] | None) -> bool:
 
 class ScriptedPlanner:
     """Straight-line planner that fails on chosen calls (1-based call numbers) or always, with
-    ``reason`` (a failing ``PlanReason``)."""
+    ``reason`` (a failing ``PlanReason``). Given ``fixed_path`` it returns that path on every
+    other call, whatever the start and goal: planning then costs nothing (benchmarks)."""
 
     def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
                  reason: PlanReason = PlanReason.NO_PATH, fail_always: bool = False,
-                 step: float = 0.05) -> None:
+                 step: float = 0.05, fixed_path: Path | None = None) -> None:
         if not isinstance(reason, PlanReason):
             raise TypeError(f"ScriptedPlanner: reason must be a PlanReason, got {reason!r}")
         if reason is PlanReason.NONE:
@@ -130,6 +132,7 @@ class ScriptedPlanner:
         self.reason = reason
         self.step = step  # spacing of the straight path's poses, m
         self.fail_always = fail_always
+        self._fixed = None if fixed_path is None else PlanResult(True, fixed_path, PlanReason.NONE)
         self.calls = 0
         self.goals: list[Pose2D] = []
 
@@ -138,6 +141,8 @@ class ScriptedPlanner:
         self.goals.append(goal)
         if self.fail_always or _in(self.calls, self.fail_calls):
             return PlanResult.failure(self.reason)
+        if self._fixed is not None:
+            return self._fixed
         return PlanResult(True, straight_path(start, goal, self.step), PlanReason.NONE)
 
 
@@ -145,18 +150,23 @@ class ScriptedController:
     """Turn toward the end of the plan and drive there; "no_valid_trajectory" on chosen calls.
 
     Goal reached within ``xy_goal_tolerance``. ``parameters`` (DWAPlannerROS-like) lets
-    SetParameters be observed: ``bias_log`` records ``path_distance_bias`` at every call.
+    SetParameters be observed: ``bias_log`` records ``path_distance_bias`` at every call. Given
+    ``fixed_command`` it answers every other call "following" with that command, plan or not,
+    and never reaches the goal: controlling then costs nothing (benchmarks).
     """
 
     def __init__(self, fail_calls: Iterable[int] | Callable[[int], bool] | None = None,
                  fail_always: bool = False, max_vel_x: float = 0.5, max_vel_theta: float = 1.0,
-                 xy_goal_tolerance: float = 0.1, parameters: Parameters | None = None) -> None:
+                 xy_goal_tolerance: float = 0.1, parameters: Parameters | None = None,
+                 fixed_command: Twist | None = None) -> None:
         self.fail_calls = set(fail_calls) if isinstance(fail_calls, (list, tuple, set, range)) \
             else fail_calls
         self.fail_always = fail_always
         self.max_vel_x, self.max_vel_theta = max_vel_x, max_vel_theta
         self.tol = xy_goal_tolerance
         self.parameters = parameters
+        self._fixed = None if fixed_command is None \
+            else ControlResult(fixed_command, ControlStatus.FOLLOWING)
         self.calls = 0
         self.plans_set = 0
         self.resets = 0
@@ -185,7 +195,11 @@ class ScriptedController:
             self.bias_log.append(self.parameters.path_distance_bias)
         if path is not None:
             self.set_plan(path)
-        if self.fail_always or _in(self.calls, self.fail_calls) or self.plan is None:
+        if self.fail_always or _in(self.calls, self.fail_calls):
+            return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY)
+        if self._fixed is not None:
+            return self._fixed
+        if self.plan is None:
             return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY)
         if self._goal_of is not self.plan:  # the plan's last pose, read once per plan
             self._goal_of, self._goal = self.plan, self.plan.pose(len(self.plan) - 1)
@@ -312,40 +326,20 @@ def run_tree(tree: Any, world: ScriptedWorld, max_ticks: int = 5000,
     return tree.status, max_ticks
 
 
+def noop_components(parameters: dict[str, Parameters]) -> dict[str, Any]:
+    """The ``tree.setup`` components of an Executive with no real algorithm: free costmaps over
+    hw.testing's square room, a straight-line planner and a controller driving toward the
+    plan's end, so trees run their real paths to success. ``parameters`` are the live
+    Parameters by namespace (the executive's config makes them: behaviors cannot)."""
+    return {
+        "global_costmap": FakeCostmap(size_m=10.0, origin=-5.0),
+        "local_costmap": FakeCostmap(size_m=10.0, origin=-5.0),
+        "planners": {"GridBased": ScriptedPlanner(step=0.3)},
+        "controllers": {"FollowPath": ScriptedController(max_vel_theta=1.5)},
+        "localizer": None,
+        "parameters": parameters,
+    }
+
+
 __all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "ScriptedWorld",
-           "NodeRig", "NoopPlanner", "NoopController", "run_tree", "straight_path", "DWA_LIKE"]
-
-
-class NoopPlanner:
-    """Returns the same straight path every call: planning costs nothing (tree benchmarks)."""
-
-    def __init__(self, length: float = 5.0) -> None:
-        self._result = PlanResult(True, straight_path(Pose2D(), Pose2D(length, 0.0, 0.0)),
-                                  PlanReason.NONE)
-        self.calls = 0
-
-    def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
-        self.calls += 1
-        return self._result
-
-
-class NoopController:
-    """Always "following" with one fixed command (tree benchmarks)."""
-
-    def __init__(self) -> None:
-        self._result = ControlResult(Twist(0.2, 0.0, 0.0), ControlStatus.FOLLOWING)
-        self.calls = 0
-
-    def set_plan(self, path: Path) -> None:
-        pass
-
-    def reset(self) -> None:
-        pass
-
-    def is_goal_reached(self) -> bool:
-        return False
-
-    def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None
-                         ) -> ControlResult:
-        self.calls += 1
-        return self._result
+           "NodeRig", "noop_components", "run_tree", "straight_path", "DWA_LIKE"]

@@ -4,11 +4,12 @@ with real components in the simulator.
     python bench/bench_executive.py [--json] [--cpu] [--trees DIR]
 
 ``tick_overhead_us``: mean wall time of one Executive.step (sense, tick, gate, record) over the
-shipped trees with every component replaced by a no-op (executive/noop.py), i.e. what the tree
-and the executive cost on top of the algorithms. ``cycle_ms``: mean Executive.step with the real
-costmaps, planner, controller and simulator on the bundled demo scenario. ``--cpu`` times with
-the process's CPU time instead of the wall clock (steadier on a shared host); ``--trees DIR``
-gives the tick overhead of the tree files in DIR (another checkout's) instead of the shipped ones.
+shipped trees with every component replaced by a no-op (behaviors.testing.noop_components,
+hw.testing.KinematicRobot), i.e. what the tree and the executive cost on top of the algorithms.
+``cycle_ms``: mean Executive.step with the real costmaps, planner, controller and simulator on
+the bundled demo scenario. ``--cpu`` times with the process's CPU time instead of the wall clock
+(steadier on a shared host); ``--trees DIR`` gives the tick overhead of the tree files in DIR
+(another checkout's) instead of the shipped ones.
 """
 
 from __future__ import annotations
@@ -31,12 +32,15 @@ def tree_overhead(tree_path: str, steps: int = 2000) -> float:
     from navcore.types import Pose2D
     from executive.executive import Executive, _mission_ids
     from executive.tree_loader import load_tree_file
-    from executive.noop import KinematicRobot, noop_components
+    from executive.config import config_from_mapping
     from behaviors.base import FAILURE, SUCCESS
+    from behaviors.testing import noop_components
+    from hw.testing import KinematicRobot
     ns = f"/bench_{next(_mission_ids)}"
     tree = load_tree_file(tree_path, namespace=ns)
     robot = KinematicRobot()
-    ex = Executive(tree, robot, SimClock(), 0.05, noop_components(), namespace=ns)
+    components = noop_components(config_from_mapping({}, "<noop>").all_parameters())
+    ex = Executive(tree, robot, SimClock(), 0.05, components, namespace=ns)
     goals = [Pose2D(3.0, 0.0), Pose2D(0.0, 0.0)]
     ex.set_goal(goals[0])
     for _ in range(50):  # warm up

@@ -5,7 +5,8 @@ no-op components (the tree alone, without the executive loop).
 
 ``load_<tree>_ms``: parse + validate + build the YAML file. ``tick_<tree>_us``: mean
 LoadedTree.tick() while navigating (FollowPath RUNNING, replanning at its rate) with
-NoopPlanner / NoopController (0.2 m/s straight on, the goal far ahead) and a kinematic robot.
+a ScriptedPlanner with a fixed path and a ScriptedController with a fixed command (0.2 m/s
+straight on, the goal far ahead) and a kinematic robot.
 ``--cpu`` times with the process's CPU time instead of the wall clock (steadier on a shared
 host); ``--trees DIR`` times the files of that name in DIR (another checkout's trees) instead
 of the shipped ones.
@@ -34,10 +35,12 @@ def load_ms(path: str, repeats: int = 20) -> float:
 
 
 def tick_us(path: str, ticks: int = 3000) -> float:
-    from behaviors.testing import NoopController, NoopPlanner, ScriptedWorld
+    from behaviors.testing import ScriptedController, ScriptedPlanner, ScriptedWorld, straight_path
     from executive.tree_loader import load_tree_file
-    from navcore.types import Pose2D
-    world = ScriptedWorld(planner=NoopPlanner(), controller=NoopController())
+    from navcore.types import Pose2D, Twist
+    world = ScriptedWorld(planner=ScriptedPlanner(fixed_path=straight_path(Pose2D(),
+                                                                           Pose2D(5.0, 0.0))),
+                          controller=ScriptedController(fixed_command=Twist(0.2, 0.0, 0.0)))
     tree = load_tree_file(path, namespace=f"/tick_{os.path.basename(path).split('.')[0]}")
     tree.setup(**world.components())
     tree.set("goal", Pose2D(1000.0, 0.0, 0.0))

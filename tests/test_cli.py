@@ -49,7 +49,7 @@ def test_help_does_not_import_heavy_modules():
 
 # ------------------------------------------------------------------ replay
 def _record_run(tmp_path) -> str:
-    from tests.test_executive import DriveToGoal, FakeIO, Spin
+    from tests.test_executive import DriveToGoal, Spin, wall_ahead_robot
     from executive.executive import Executive
     from executive.recorder import Recorder
     run_dir = tmp_path / "run"
@@ -57,7 +57,7 @@ def _record_run(tmp_path) -> str:
     with open(run_dir / "ticks.jsonl", "w") as f:
         root = py_trees.composites.Sequence("seq", memory=True,
                                             children=[Spin("spin"), DriveToGoal("drive")])
-        ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(), SimClock(), 0.1,
+        ex = Executive(py_trees.trees.BehaviourTree(root), wall_ahead_robot(), SimClock(), 0.1,
                        recorder=Recorder(f))
         result = ex.run([Pose2D(1.0, 0.0)], time_limit=30)
     assert result.succeeded

@@ -10,71 +10,26 @@ import py_trees
 import pytest
 from py_trees.common import Access, Status
 
-from hw.interfaces import BaseEvents
+from hw.testing import KinematicRobot
 from navcore.clock import SimClock
-from navcore.types import LaserScan, Odometry, Pose2D, Twist
+from navcore.types import Pose2D, Twist
 from behaviors.base import Recovery, make as make_node
 from executive.executive import Executive
 from executive.recorder import Recorder, read_log, statuses_at
 from executive.safety import SafetyGate
 
 
-class FakeBase:
-    def __init__(self, io_: "FakeIO") -> None:
-        self.io = io_
-
-    def send(self, cmd: Twist) -> None:
-        self.io.cmd = cmd
-        self.io.sent.append(cmd)
-
-    def odometry(self) -> Odometry:
-        return Odometry(self.io.t, self.io.pose, self.io.cmd)
-
-    def battery(self):
-        return None
-
-    def events(self) -> BaseEvents:
-        return BaseEvents()
+def wall_ahead(pose: Pose2D) -> list[float]:
+    """Three beams at a wall 3 m ahead of the start along x: the ranges change as the robot
+    moves (the safety gate stops a robot whose laser repeats itself while it moves)."""
+    d = max(0.2, 3.0 - pose.x) + 0.01 * math.sin(pose.theta)
+    return [d, d, d]
 
 
-class FakeLaser:
-    mount = Pose2D()
-
-    def __init__(self, io_: "FakeIO") -> None:
-        self.io = io_
-
-    def scan(self) -> LaserScan:
-        # a wall 3 m ahead of the start along x: the ranges change as the robot moves (the
-        # safety gate stops a robot whose laser repeats itself while it moves)
-        p = self.io.pose
-        d = max(0.2, 3.0 - p.x) + 0.01 * math.sin(p.theta)
-        return LaserScan(self.io.t, -1.0, 1.0, 1.0, 0.0, 0.1, 0.1, 5.0, [d, d, d])
-
-
-class FakeIO:
-    """A unicycle that integrates the last command between steps."""
-
-    def __init__(self, pose: Pose2D = Pose2D()) -> None:
-        self.t = 0.0
-        self.pose = pose
-        self.cmd = Twist()
-        self.sent: list[Twist] = []
-        self.base = FakeBase(self)
-        self.laser = FakeLaser(self)
-
-    def step_to(self, t: float) -> None:
-        dt = t - self.t
-        if dt > 0:
-            p, c = self.pose, self.cmd
-            self.pose = Pose2D(p.x + c.vx * math.cos(p.theta) * dt,
-                               p.y + c.vx * math.sin(p.theta) * dt, p.theta + c.wz * dt)
-            self.t = t
-
-    def true_pose(self) -> Pose2D:
-        return self.pose
-
-    def in_collision(self) -> bool:
-        return False
+def wall_ahead_robot(pose: Pose2D = Pose2D()) -> KinematicRobot:
+    """The robot I/O of these tests: hw.testing's unicycle, its laser seeing ``wall_ahead``."""
+    return KinematicRobot(pose, ranges=wall_ahead, angle_min=-1.0, angle_max=1.0,
+                          angle_increment=1.0, range_min=0.1, range_max=5.0)
 
 
 class DriveToGoal(py_trees.behaviour.Behaviour):
@@ -121,7 +76,7 @@ class Spin(Recovery, py_trees.behaviour.Behaviour):
 
 def make(root, pose=Pose2D(), stream=None):
     clock = SimClock()
-    io_ = FakeIO(pose)
+    io_ = wall_ahead_robot(pose)
     ex = Executive(py_trees.trees.BehaviourTree(root), io_, clock, 0.1,
                    recorder=Recorder(stream))
     return ex, io_, clock
@@ -182,7 +137,7 @@ def test_a_bug_in_localisation_or_a_costmap_update_ends_the_mission(phase):
     # Before, the robot stopped each cycle and the tree ticked on until the time limit: the
     # mission ended in a timeout that did not say why. Now it ends at once with INTERNAL_ERROR.
     stream = io.StringIO()
-    io_ = FakeIO(Pose2D())
+    io_ = wall_ahead_robot(Pose2D())
     ex = Executive(py_trees.trees.BehaviourTree(DriveToGoal("drive")), io_, SimClock(), 0.1,
                    perception=BrokenPerception(phase), recorder=Recorder(stream))
     result = ex.run([Pose2D(2.0, 0.0)], time_limit=30.0)
@@ -219,7 +174,7 @@ def test_exception_in_a_navbt_leaf_ends_the_mission_with_its_traceback(where):
     root = py_trees.composites.Selector("sel", memory=False,
                                         children=[leaf, DriveToGoal("drive")])
     stream = io.StringIO()
-    io_ = FakeIO(Pose2D())
+    io_ = wall_ahead_robot(Pose2D())
     ex = Executive(py_trees.trees.BehaviourTree(root), io_, SimClock(), 0.1,
                    {"local_costmap": Exploding(), "controllers": {"FollowPath": Exploding()}},
                    namespace=ns, recorder=Recorder(stream))
@@ -366,8 +321,8 @@ def test_run_folder_files(tmp_path):
     root = py_trees.composites.Sequence("seq", memory=True,
                                         children=[Spin("spin"), DriveToGoal("drive")])
     clock = SimClock()
-    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D(1.0, 1.0)), clock, 0.1,
-                   recorder=Recorder(log))
+    ex = Executive(py_trees.trees.BehaviourTree(root), wall_ahead_robot(Pose2D(1.0, 1.0)), clock,
+                   0.1, recorder=Recorder(log))
     result = ex.run([Pose2D(3.0, 1.5)], time_limit=30)
     log.close()
     ex.trace.contacts.append({"t": 1.0, "pose": [2.0, 1.2, 0.0]})
@@ -403,8 +358,8 @@ def test_overrun_is_recorded():
             pass
 
     stream, timing = io.StringIO(), io.StringIO()
-    ex = Executive(py_trees.trees.BehaviourTree(DriveToGoal("drive")), FakeIO(), SimClock(), 0.1,
-                   recorder=Recorder(stream, timing=timing), wall_clock=SlowWall())
+    ex = Executive(py_trees.trees.BehaviourTree(DriveToGoal("drive")), wall_ahead_robot(),
+                   SimClock(), 0.1, recorder=Recorder(stream, timing=timing), wall_clock=SlowWall())
     ex.set_goal(Pose2D(1.0, 0.0))
     for _ in range(3):
         ex.step()
@@ -452,7 +407,8 @@ def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
     # shipped trees answered with Spin and BackUp. A bug now ends the mission: INTERNAL_ERROR,
     # no recovery fired, the robot stopped.
     from executive.tree_loader import load_tree_file
-    from executive.noop import KinematicRobot, noop_components
+    from behaviors.testing import noop_components
+    from executive.config import config_from_mapping
 
     class BuggyController:
         def set_plan(self, path) -> None:
@@ -468,10 +424,9 @@ def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
             return pose.x + None  # TypeError
 
     ns = f"/buggy_{tree}"
-    components = dict(noop_components(), controllers={"FollowPath": BuggyController()})
+    components = dict(noop_components(config_from_mapping({}, "<noop>").all_parameters()),
+                      controllers={"FollowPath": BuggyController()})
     robot = KinematicRobot()
-    sent = []
-    robot.base.send = lambda cmd: sent.append(cmd)
     ex = Executive(load_tree_file(f"trees/{tree}.yaml", namespace=ns), robot, SimClock(), 0.05,
                    components, namespace=ns)
     result = ex.run([Pose2D(3.0, 0.0)], time_limit=30.0)
@@ -479,7 +434,7 @@ def test_a_controller_bug_ends_the_mission_instead_of_firing_recoveries(tree):
     assert result.outcome == "failed" and result.recoveries == []
     assert result.reason.startswith("INTERNAL_ERROR in '") and "TypeError" in result.reason
     assert "compute_velocity" in result.traceback
-    assert sent and all(c.is_zero() for c in sent)
+    assert robot.sent and all(c.is_zero() for c in robot.sent)
 
 
 @pytest.mark.parametrize("tree", ["nav2", "smach_recovery"])
@@ -488,12 +443,14 @@ def test_the_noop_robot_drives_its_goals_through_the_safety_gate(tree):
     # repeat one scan while the robot moved: a frozen sensor to the safety gate, which held the
     # robot still while the tree spun through its recoveries.
     from executive.tree_loader import load_tree_file
-    from executive.noop import KinematicRobot, noop_components
+    from behaviors.testing import noop_components
+    from executive.config import config_from_mapping
 
     ns = f"/noop_drive_{tree}"
     robot = KinematicRobot()
     ex = Executive(load_tree_file(f"trees/{tree}.yaml", namespace=ns), robot, SimClock(), 0.05,
-                   noop_components(), namespace=ns)
+                   noop_components(config_from_mapping({}, "<noop>").all_parameters()),
+                   namespace=ns)
     result = ex.run([Pose2D(3.0, 0.0), Pose2D(0.0, 0.0)], time_limit=60.0)
     ex.shutdown()
     assert result.outcome == "succeeded" and result.goals_reached == 2

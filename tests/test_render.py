@@ -16,7 +16,7 @@ from executive.recorder import Recorder, walk
 from executive.render import (KIND_STYLE, NodeStats, render_tree, stats_from_footer,
                               subtree_name, tree_dot)
 from executive.tree_loader import load_tree_file, shipped_tree
-from tests.test_executive import FakeIO
+from tests.test_executive import wall_ahead_robot
 
 
 def _node_lines(dot: str) -> dict[int, str]:
@@ -79,8 +79,8 @@ def test_run_statistics_and_last_failure_chain():
     backup = _status_leaf("backup", [Status.SUCCESS])
     root = py_trees.composites.Selector("root", memory=False, children=[attempt, backup])
     stream = io.StringIO()
-    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D()), SimClock(), 0.1,
-                   recorder=Recorder(stream))
+    ex = Executive(py_trees.trees.BehaviourTree(root), wall_ahead_robot(Pose2D()), SimClock(),
+                   0.1, recorder=Recorder(stream))
     for _ in range(4):
         ex.step()
     ex.recorder.footer({"outcome": "test"})
@@ -109,7 +109,7 @@ def test_run_statistics_and_last_failure_chain():
 def test_unrecorded_run_adds_no_visitor():
     root = _status_leaf("x", [Status.SUCCESS])
     tree = py_trees.trees.BehaviourTree(root)
-    ex = Executive(tree, FakeIO(Pose2D()), SimClock(), 0.1)
+    ex = Executive(tree, wall_ahead_robot(Pose2D()), SimClock(), 0.1)
     assert tree.visitors == [] and ex.recorder.node_stats is None
 
 
@@ -136,8 +136,8 @@ def test_a_failing_sink_is_dropped_and_the_run_goes_on():
     broken, counting = Broken(), Counting()
     root = _status_leaf("x", [Status.RUNNING])
     rec = Recorder(None, sinks=[broken, counting])
-    ex = Executive(py_trees.trees.BehaviourTree(root), FakeIO(Pose2D()), SimClock(), 0.1,
-                   recorder=rec)
+    ex = Executive(py_trees.trees.BehaviourTree(root), wall_ahead_robot(Pose2D()), SimClock(),
+                   0.1, recorder=rec)
     for _ in range(6):
         ex.step()
     assert broken.ticks == 3 and counting.ticks == 6 and rec.sinks == [counting]
