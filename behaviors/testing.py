@@ -139,7 +139,7 @@ class ScriptedPlanner:
     def make_plan(self, start: Pose2D, goal: Pose2D) -> PlanResult:
         self.calls += 1
         self.goals.append(goal)
-        if self.fail_always or _in(self.calls, self.fail_calls):
+        if self.fail_always or (self.fail_calls is not None and _in(self.calls, self.fail_calls)):
             return PlanResult.failure(self.reason)
         if self._fixed is not None:
             return self._fixed
@@ -195,7 +195,7 @@ class ScriptedController:
             self.bias_log.append(self.parameters.path_distance_bias)
         if path is not None:
             self.set_plan(path)
-        if self.fail_always or _in(self.calls, self.fail_calls):
+        if self.fail_always or (self.fail_calls is not None and _in(self.calls, self.fail_calls)):
             return ControlResult(Twist.zero(), ControlStatus.NO_VALID_TRAJECTORY)
         if self._fixed is not None:
             return self._fixed

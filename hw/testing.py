@@ -26,23 +26,20 @@ ROOM_HALF_WIDTH = 5.0  # m: the walls the default laser sees, the square of the 
 _ZERO_COVARIANCE = np.zeros((3, 3))
 _ZERO_COVARIANCE.flags.writeable = False
 _NO_EVENTS = BaseEvents()
-
-
-def room_range(x: float, y: float, angle: float) -> float:
-    """Distance from (x, y) along ``angle`` to the walls of the square room of half-width
-    ROOM_HALF_WIDTH around the origin (within the scan's 0.05-10 m)."""
-    c, s = math.cos(angle), math.sin(angle)
-    t = 10.0
-    if c != 0.0:
-        t = min(t, ((ROOM_HALF_WIDTH if c > 0.0 else -ROOM_HALF_WIDTH) - x) / c)
-    if s != 0.0:
-        t = min(t, ((ROOM_HALF_WIDTH if s > 0.0 else -ROOM_HALF_WIDTH) - y) / s)
-    return max(t, 0.05)
+_NO_INTENSITIES = np.zeros(0, np.float32)
+_NO_INTENSITIES.flags.writeable = False
 
 
 def room_ranges(pose: Pose2D) -> list[float]:
-    """The default laser: one beam straight ahead at the room's walls."""
-    return [room_range(pose.x, pose.y, pose.theta)]
+    """The default laser: one beam straight ahead, its distance to the walls of the square room
+    of half-width ROOM_HALF_WIDTH around the origin (within the scan's 0.05-10 m)."""
+    c, s = math.cos(pose.theta), math.sin(pose.theta)
+    t = 10.0
+    if c != 0.0:
+        t = min(t, ((ROOM_HALF_WIDTH if c > 0.0 else -ROOM_HALF_WIDTH) - pose.x) / c)
+    if s != 0.0:
+        t = min(t, ((ROOM_HALF_WIDTH if s > 0.0 else -ROOM_HALF_WIDTH) - pose.y) / s)
+    return [max(t, 0.05)]
 
 
 class _Base:
@@ -71,18 +68,19 @@ class _Laser:
                  angles: tuple[float, float, float], limits: tuple[float, float]) -> None:
         self.robot = robot
         self.ranges = ranges
-        self.angles = angles
-        self.limits = limits
+        # the scan's fields between stamp and ranges: angles, time_increment, scan_time, limits
+        self._fields = (*angles, 0.0, 0.1, *limits)
         self._scan: LaserScan | None = None
         self._scan_pose: Pose2D | None = None
 
     def scan(self) -> LaserScan:
-        # one scan per (time, pose): read again in the same cycle it is the same message
+        # one scan per pose (step_to makes a new one each cycle): read again in the same cycle
+        # it is the same message
         robot = self.robot
-        if self._scan is None or self._scan.stamp != robot.t or self._scan_pose is not robot.pose:
+        if self._scan_pose is not robot.pose:
             self._scan_pose = robot.pose
-            self._scan = LaserScan(robot.t, *self.angles, 0.0, 0.1, *self.limits,
-                                   self.ranges(robot.pose))
+            self._scan = LaserScan(robot.t, *self._fields,
+                                   np.array(self.ranges(robot.pose), np.float32), _NO_INTENSITIES)
         return self._scan
 
 
@@ -122,4 +120,4 @@ class KinematicRobot:
         return False
 
 
-__all__ = ["KinematicRobot", "ROOM_HALF_WIDTH", "room_range", "room_ranges"]
+__all__ = ["KinematicRobot", "ROOM_HALF_WIDTH", "room_ranges"]

@@ -82,6 +82,28 @@ def make(root, pose=Pose2D(), stream=None):
     return ex, io_, clock
 
 
+def test_the_robot_io_double_integrates_its_commands_and_its_laser_follows_it():
+    robot = KinematicRobot(Pose2D(1.0, 0.0, 0.0))
+    scan0 = robot.laser.scan()
+    assert robot.laser.scan() is scan0  # read twice in one cycle: one message
+    assert scan0.ranges.tolist() == pytest.approx([4.0])  # the room's wall at x = 5 m
+    robot.base.send(Twist(0.5, 0.0, 0.0))
+    robot.step_to(2.0)
+    assert (robot.pose.x, robot.pose.y, robot.t) == pytest.approx((2.0, 0.0, 2.0))
+    assert robot.laser.scan().ranges.tolist() == pytest.approx([3.0])
+    robot.base.send(Twist(0.0, 0.0, math.pi / 2))
+    robot.step_to(3.0)
+    assert robot.pose.theta == pytest.approx(math.pi / 2)
+    assert robot.laser.scan().ranges.tolist() == pytest.approx([5.0])  # facing the wall y = 5
+    odom = robot.base.odometry()
+    assert odom.stamp == 3.0 and odom.pose is robot.pose
+    assert odom.twist.wz == pytest.approx(math.pi / 2)
+    assert [c.vx for c in robot.sent] == [0.5, 0.0]
+    wall = wall_ahead_robot(Pose2D(1.0, 0.0)).laser.scan()
+    assert (wall.angle_min, wall.angle_max, wall.range_max) == (-1.0, 1.0, 5.0)
+    assert wall.ranges.tolist() == pytest.approx([2.0, 2.0, 2.0])
+
+
 def test_drives_to_goal_and_stops():
     ex, io_, clock = make(DriveToGoal("drive"))
     result = ex.run([Pose2D(2.0, 1.0, 0.0)], time_limit=60.0)

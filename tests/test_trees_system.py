@@ -266,3 +266,23 @@ def test_move_base_restarts_its_recovery_list_after_navigating_again():
     status, _ = run_tree(tree, w, max_ticks=1400)             # 70 s
     assert [c[2] for c in w.global_costmap.clear_outside_calls] == [3.0, 3.0]
     assert runs.done["Spin"] == 0
+
+
+def test_fixed_path_and_command_doubles_keep_navigating_and_still_fail_on_cue():
+    # the benchmark doubles: one path whatever the goal, one command whatever the plan, never
+    # at the goal; the scripted failures still apply
+    from behaviors.testing import straight_path
+    from navcore.controllers.result import ControlStatus
+    from navcore.types import Twist
+    path = straight_path(Pose2D(), Pose2D(5.0, 0.0))
+    planner = ScriptedPlanner(fixed_path=path, fail_calls=[2])
+    first = planner.make_plan(Pose2D(1.0, 1.0), GOAL)
+    assert first.ok and first.path is path
+    assert not planner.make_plan(Pose2D(), GOAL).ok
+    assert planner.make_plan(Pose2D(2.0, 0.0), Pose2D(-3.0, 0.0)).path is path
+    controller = ScriptedController(fixed_command=Twist(0.2, 0.0, 0.0), fail_calls=[3])
+    answers = [controller.compute_velocity(Pose2D(x, 0.0), Twist()) for x in (0.0, 5.0, 5.0)]
+    assert [a.status for a in answers] == [ControlStatus.FOLLOWING, ControlStatus.FOLLOWING,
+                                           ControlStatus.NO_VALID_TRAJECTORY]
+    assert answers[0].cmd == Twist(0.2, 0.0, 0.0) and answers[2].cmd.is_zero()
+    assert not controller.is_goal_reached()
