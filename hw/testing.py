@@ -4,7 +4,8 @@
 never collides, with a laser whose ranges change as it moves (the safety gate stops a robot
 whose laser repeats itself while it moves). By default the laser is one beam straight ahead at
 the walls of a square room around the origin (``room_ranges``); a test gives its own geometry
-with ``ranges`` and the scan's angles and limits. ``sent`` keeps every command the base got.
+with ``ranges`` and the scan's angles and limits, or none with ``ranges=None`` (a robot without
+a laser). ``sent`` keeps every command the base got.
 
 It lives in hw because RobotIO is hw's interface (hw may import navcore only, and this needs
 nothing else); the tree's component doubles are in behaviors/testing.py. Its messages are built
@@ -88,11 +89,12 @@ class KinematicRobot:
     """A RobotIO: a unicycle integrating the last command; never collides.
 
     ``ranges(pose)`` gives the laser's ranges at a pose, beam i at ``angle_min + i *
-    angle_increment`` (default: ``room_ranges``, one beam ahead at the square room's walls).
+    angle_increment`` (default: ``room_ranges``, one beam ahead at the square room's walls);
+    ``ranges=None``: no laser.
     """
 
     def __init__(self, pose: Pose2D = Pose2D(), *,
-                 ranges: Callable[[Pose2D], Sequence[float]] = room_ranges,
+                 ranges: Callable[[Pose2D], Sequence[float]] | None = room_ranges,
                  angle_min: float = 0.0, angle_max: float = 0.0, angle_increment: float = 1.0,
                  range_min: float = 0.05, range_max: float = 10.0) -> None:
         self.t = 0.0
@@ -100,8 +102,8 @@ class KinematicRobot:
         self.cmd = Twist()
         self.sent: list[Twist] = []
         self.base = _Base(self)
-        self.laser = _Laser(self, ranges, (angle_min, angle_max, angle_increment),
-                            (range_min, range_max))
+        self.laser = None if ranges is None else _Laser(
+            self, ranges, (angle_min, angle_max, angle_increment), (range_min, range_max))
 
     def step_to(self, t: float) -> None:
         dt = t - self.t

@@ -12,10 +12,10 @@ from executive import (Navigator, Pose2D, TreeLoadError, WiringError, World, loa
                        load_tree, open_mission, parse_tree)
 from executive.executive import Executive
 from executive.task import _remaining
-from hw.interfaces import BaseEvents
+from hw.testing import KinematicRobot
 from navcore.clock import SimClock
 from navcore.synthetic_maps import ascii_map
-from navcore.types import Odometry, Path, Twist
+from navcore.types import Path
 
 ROOM = ascii_map("\n".join(["#" * 25] + ["#" + "." * 23 + "#"] * 10 + ["#" * 25]),
                  resolution=0.2)
@@ -26,42 +26,8 @@ def config():
     return load_config()
 
 
-class Blind:
-    """A RobotIO without a laser: a unicycle integrating the last command exactly."""
-
-    def __init__(self, pose: Pose2D = Pose2D()) -> None:
-        self.t, self.pose, self.cmd = 0.0, pose, Twist()
-        self.base, self.laser = self, None
-
-    def send(self, cmd: Twist) -> None:
-        self.cmd = cmd
-
-    def odometry(self) -> Odometry:
-        return Odometry(self.t, self.pose, self.cmd)
-
-    def battery(self) -> None:
-        return None
-
-    def events(self) -> BaseEvents:
-        return BaseEvents()
-
-    def step_to(self, t: float) -> None:
-        dt, p, c = t - self.t, self.pose, self.cmd
-        if dt > 0:
-            self.pose = Pose2D(p.x + c.vx * math.cos(p.theta) * dt,
-                               p.y + c.vx * math.sin(p.theta) * dt,
-                               math.remainder(p.theta + c.wz * dt, 2 * math.pi))
-            self.t = t
-
-    def true_pose(self) -> Pose2D:
-        return self.pose
-
-    def in_collision(self) -> bool:
-        return False
-
-
-def _robot_mission(config, tree="nav2") -> tuple[Navigator, Blind]:
-    robot = Blind(Pose2D(1.0, 1.2))
+def _robot_mission(config, tree="nav2") -> tuple[Navigator, KinematicRobot]:
+    robot = KinematicRobot(Pose2D(1.0, 1.2), ranges=None)
     return open_mission(tree, config, ROOM, Pose2D(1.0, 1.2), io=robot), robot
 
 
@@ -89,14 +55,14 @@ def test_load_tree_takes_the_configs_port_defaults_and_a_nav2_distro():
 def test_executive_refuses_a_namespace_other_than_its_trees(config):
     tree = load_tree("nav2")
     with pytest.raises(ValueError, match="not the tree's"):
-        Executive(tree, Blind(), SimClock(), 0.1, namespace="/elsewhere")
+        Executive(tree, KinematicRobot(ranges=None), SimClock(), 0.1, namespace="/elsewhere")
 
 
 def test_open_mission_refuses_world_or_localisation_it_cannot_honour(config):
     with pytest.raises(WiringError, match="'world' and 'hardware'"):
-        open_mission("nav2", config, ROOM, io=Blind(), world=World())
+        open_mission("nav2", config, ROOM, io=KinematicRobot(ranges=None), world=World())
     with pytest.raises(WiringError, match="needs a laser"):
-        open_mission("nav2", config, ROOM, io=Blind(), localise=True)
+        open_mission("nav2", config, ROOM, io=KinematicRobot(ranges=None), localise=True)
     with pytest.raises(WiringError, match="give a map"):
         open_mission("nav2", config)
 
