@@ -328,7 +328,29 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
         self.status = new_status
 
 
-class Control(NavNode, py_trees.composites.Composite):
+class ParentTick:
+    """``begin_tick`` and ``finish`` for nodes whose ``tick`` ticks their children (``Control``,
+    ``DecoratorNode``); ``halt_children()`` stops the children that are not INVALID."""
+
+    def begin_tick(self) -> bool:
+        """First thing in ``tick``: True when this tick starts a new run (this node not
+        RUNNING), having stopped the children that are not INVALID."""
+        if self.status is RUNNING:  # type: ignore[attr-defined]
+            return False
+        self.halt_children()  # type: ignore[attr-defined]
+        return True
+
+    def finish(self, status: Status) -> ParentTick:
+        """End this tick with ``status`` (a final one stops this node); this node, for
+        ``yield self.finish(status)``."""
+        if status is RUNNING:
+            self.status = RUNNING
+        else:
+            self.stop(status)  # type: ignore[attr-defined]
+        return self
+
+
+class Control(ParentTick, NavNode, py_trees.composites.Composite):
     """Base of control nodes: subclasses implement ``tick`` as py_trees' composites do.
 
     Tick semantics are py_trees' (docs/trees.md, "How a tick works"): ``tick`` is a generator
@@ -359,23 +381,6 @@ class Control(NavNode, py_trees.composites.Composite):
         raise NotImplementedError(f"{type(self).__name__}: no tick")
         yield  # (a generator)
 
-    def begin_tick(self) -> bool:
-        """First thing in ``tick``: True when this tick starts a new run (this node not
-        RUNNING), having stopped every child that is not INVALID."""
-        if self.status is RUNNING:
-            return False
-        self.halt_children()
-        return True
-
-    def finish(self, status: Status) -> Control:
-        """End this tick with ``status`` (a final one stops this node); this node, for
-        ``yield self.finish(status)``."""
-        if status is RUNNING:
-            self.status = RUNNING
-        else:
-            self.stop(status)
-        return self
-
     def halt_children(self, start: int = 0) -> None:
         """Stop (INVALID) every child from index ``start`` on that is not INVALID."""
         for child in self.children[start:]:
@@ -396,7 +401,7 @@ class Control(NavNode, py_trees.composites.Composite):
         self.status = new_status
 
 
-class DecoratorNode(NavNode, py_trees.decorators.Decorator):
+class DecoratorNode(ParentTick, NavNode, py_trees.decorators.Decorator):
     """Base of decorators that decide *whether* and *how* to tick their child (``tick``,
     with ``begin_tick`` and ``finish`` as in ``Control``): a new run stops the child if it is not
     INVALID; a final status stops a RUNNING child; a halt stops the child."""
@@ -415,28 +420,11 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
         raise NotImplementedError(f"{type(self).__name__}: no tick")
         yield  # (a generator)
 
-    def begin_tick(self) -> bool:
-        """First thing in ``tick``: True when this tick starts a new run (this node not
-        RUNNING), having stopped the child if it is not INVALID."""
-        if self.status is RUNNING:
-            return False
-        self.halt_child()
-        return True
-
-    def finish(self, status: Status) -> DecoratorNode:
-        """End this tick with ``status`` (a final one stops this node); this node, for
-        ``yield self.finish(status)``."""
-        if status is RUNNING:
-            self.status = RUNNING
-        else:
-            self.stop(status)
-        return self
-
     def update(self) -> Status:
         """Unused: these decorators decide in ``tick`` (py_trees declares it abstract)."""
         return self.decorated.status
 
-    def halt_child(self) -> None:
+    def halt_children(self) -> None:
         if self.decorated.status is not INVALID:
             self.decorated.stop(INVALID)
 
@@ -444,7 +432,7 @@ class DecoratorNode(NavNode, py_trees.decorators.Decorator):
         # py_trees' Decorator.stop: the child is stopped on a halt or when still RUNNING
         self.terminate(new_status)
         if new_status is INVALID or self.decorated.status is RUNNING:
-            self.halt_child()
+            self.halt_children()
         self.status = new_status
 
 

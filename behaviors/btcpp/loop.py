@@ -56,7 +56,7 @@ class _Loop(DecoratorNode):
             yield self.finish(FAILURE)
             return
         if status is SUCCESS:
-            self.halt_child()
+            self.halt_children()
         yield self.finish(RUNNING)
 
 

@@ -41,7 +41,7 @@ class Throttle(DecoratorNode):
         child = self.decorated
         if self._last_status is INVALID or child.status is RUNNING or due:
             if due and self.RESTART_WHEN_DUE and child.status is RUNNING:
-                self.halt_child()
+                self.halt_children()
             yield from child.tick()
             self._last_status = child.status
             if self._last_status is SUCCESS:

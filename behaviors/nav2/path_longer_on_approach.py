@@ -61,7 +61,7 @@ class PathLongerOnApproach(DecoratorNode):
                 return
             self._old = new
             status = child.status
-            self.halt_child()
+            self.halt_children()
             yield self.finish(status)
             return
         self._old = new
