@@ -22,15 +22,13 @@ import sys
 from typing import TextIO
 
 
-def _cache_probe() -> int:
-    return 1
-
-
 def kernels_cold() -> bool:
     """True when numba's cache had no machine code for this installation yet (the probe kernel,
-    cached like all others, had to be compiled): the first run after an install or upgrade."""
+    cached like all others, had to be compiled): the first run after an install, an upgrade or
+    a change of a kernel source (navcore.kernel_cache drops the cache then)."""
     from numba import njit  # not at import: `mission --help` imports every command module
-    probe = njit(cache=True)(_cache_probe)
+    from navcore.kernel_cache import cache_probe
+    probe = njit(cache=True)(cache_probe)
     probe()
     stats = getattr(probe, "stats", None)  # plain function under NUMBA_DISABLE_JIT
     return bool(stats is not None and stats.cache_misses)
