@@ -562,7 +562,7 @@ def merged_doc(sources: ConfigSources) -> tuple[dict[str, Any], dict[tuple, str]
                 amcl_ns = launched.amcl_ns or amcl_ns
                 notes += launched.notes
             for spec in sources.params:
-                load_params_file(tree, spec, node_ns)
+                notes += load_params_file(tree, spec, node_ns)
             files = frozenset(split_params_arg(spec)[0] for spec in sources.params)
             converted = move_base_to_config(tree, node_ns, amcl_ns, outside_files=files)
             _merge(doc, origins, converted.doc, converted.origins)

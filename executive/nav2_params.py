@@ -17,7 +17,7 @@ import os
 from typing import Any, Mapping
 
 from executive.config_params import BEHAVIOR_SERVER_PARAMS
-from executive.param_files import Note, ParamsError, Path_, nearest, read_yaml
+from executive.param_files import Note, ParamsError, Path_, nearest, read_ros_yaml
 from executive.ros_params import Converted
 
 _AMCL = {f"alpha{i}": f"odom_alpha{i}" for i in range(1, 6)}
@@ -402,12 +402,14 @@ def _nodes(doc: Any, path: Path_ = ()) -> list[tuple[str, Path_, Mapping[str, An
 def read_nav2_params(path: str | os.PathLike) -> Converted:
     """A Nav2 ``nav2_params.yaml`` as navbt config namespaces, with notes and ignored keys."""
     file = str(path)
-    doc, lines = read_yaml(file)
+    read_notes: list[Note] = []
+    doc, lines = read_ros_yaml(file, read_notes)
     nodes = _nodes(doc)
     if not nodes:
         raise ParamsError(f"{file}: no 'ros__parameters' found: not a Nav2 parameter file "
                           "(a ROS 1 file loads with --params)")
     m = _Mapper(file, lines)
+    m.out.notes += read_notes
     handlers = {"amcl": m.amcl, "planner_server": m.planner, "controller_server": m.controller,
                 "bt_navigator": m.bt_navigator, "velocity_smoother": m.velocity_smoother,
                 "behavior_server": m.behavior_server,

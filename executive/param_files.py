@@ -13,7 +13,7 @@ from typing import Any, Mapping
 
 import yaml
 
-from navcore.safe_read import compose_yaml, node_value, read_text
+from navcore.safe_read import Duplicate, compose_yaml, duplicate_text, node_value, read_text
 from executive.errors import ExecutiveError
 
 Path_ = tuple[str, ...]
@@ -81,12 +81,13 @@ def _key_lines(node: Any, path: Path_, lines: dict[Path_, int]) -> None:
             _key_lines(v, path + (i,), lines)
 
 
-def parse_yaml_lines(text: str, file: str, error: Any = None
-                     ) -> tuple[Any, dict[Path_, int]]:
+def parse_yaml_lines(text: str, file: str, error: Any = None,
+                     duplicates: list[Duplicate] | None = None) -> tuple[Any, dict[Path_, int]]:
     """Safe-parse YAML text (navcore.safe_read's limits): the data and the 1-based line of every
-    mapping key and list item, by key path (indices for list items)."""
+    mapping key and list item, by key path (indices for list items). A key written twice is an
+    error, or appended to ``duplicates`` when given (ROS files: the last one is kept)."""
     error = error or ParamsError
-    node = compose_yaml(text, file, error=error)
+    node = compose_yaml(text, file, error=error, duplicates=duplicates)
     if node is None:
         return None, {}
     lines: dict[Path_, int] = {}
@@ -95,11 +96,30 @@ def parse_yaml_lines(text: str, file: str, error: Any = None
 
 
 def read_yaml(path: str | os.PathLike, text: str | None = None, *, what: str = "parameter file",
-              error: Any = None) -> tuple[Any, dict[Path_, int]]:
+              error: Any = None, duplicates: list[Duplicate] | None = None
+              ) -> tuple[Any, dict[Path_, int]]:
     """Read (bounded, strict UTF-8) and safe-parse a YAML file, or ``text`` read from it; errors
     (``error``, default ParamsError) name file and line."""
     file = os.fspath(path)
     error = error or ParamsError
     if text is None:
         text = read_text(file, what=what, error=error)
-    return parse_yaml_lines(text, file, error)
+    return parse_yaml_lines(text, file, error, duplicates)
+
+
+def read_ros_yaml(path: str | os.PathLike, notes: list[Note], text: str | None = None
+                  ) -> tuple[Any, dict[Path_, int]]:
+    """``read_yaml`` for a ROS parameter file: rosparam (PyYAML) keeps the last of two equal
+    keys, and real files must load unedited, so a duplicate is a "note" in ``notes``, not an
+    error."""
+    file = os.fspath(path)
+    found: list[Duplicate] = []
+    doc, lines = read_yaml(file, text, duplicates=found)
+    notes.extend(duplicate_notes(file, found))
+    return doc, lines
+
+
+def duplicate_notes(file: str, found: list[Duplicate], offset: int = 0) -> list[Note]:
+    """One note per key written twice (``offset``: lines before the text, for inline YAML)."""
+    return [Note("note", f"{file}:{line + offset}", f"{duplicate_text(key, first + offset)}; "
+                 "the last one is used, as rosparam does") for line, first, key in found]

@@ -19,11 +19,12 @@ from pathlib import Path
 from typing import Any, Mapping
 from xml.parsers import expat
 
-from executive.param_files import Note, ParamsError, Path_, parse_yaml_lines, read_yaml
+from executive.param_files import (Note, ParamsError, Path_, duplicate_notes, parse_yaml_lines,
+                                   read_ros_yaml)
 from executive.ros_params import ParamTree, split_name
 from navcore.params import suggest
-from navcore.safe_read import (MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, parse_xml, parse_yaml, read_bytes,
-                               read_text)
+from navcore.safe_read import (MAX_INCLUDE_DEPTH, MAX_XML_DEPTH, Duplicate, parse_xml, parse_yaml,
+                               read_bytes, read_text)
 from executive.errors import ExecutiveError
 
 
@@ -427,7 +428,7 @@ class _Reader:
             if subst:
                 text = self.subst(text, ctx, file)
             try:
-                doc, lines = read_yaml(file, text)
+                doc, lines = read_ros_yaml(file, self.notes, text)
             except ParamsError as e:
                 self.error(where, str(e))
                 raise _Skip from None
@@ -437,7 +438,8 @@ class _Reader:
             if subst:
                 text = self.subst(text, ctx, where)
             try:
-                doc, rel = parse_yaml_lines(text, "<rosparam>")
+                found: list[Duplicate] = []
+                doc, rel = parse_yaml_lines(text, "<rosparam>", duplicates=found)
             except ParamsError as e:
                 m = re.match(r"<rosparam>:(\d+): (.*)", str(e), re.S)
                 # (the parser may place an end-of-text error one line past the text)
@@ -446,6 +448,7 @@ class _Reader:
                 self.error(f"{ctx.file}:{line}", f"<rosparam>: {m.group(2) if m else e}")
                 raise _Skip from None
             lines = {k: el.text_line + n - 1 for k, n in rel.items()}
+            self.notes += duplicate_notes(ctx.file, found, el.text_line - 1)
             origin_file = ctx.file
         if param:
             if isinstance(doc, Mapping):

@@ -16,7 +16,7 @@ from typing import Any, Iterator, Mapping
 
 from navcore.params import Leniency, suggest
 from executive.config_params import MOVE_BASE_PARAMS
-from executive.param_files import Note, ParamsError, Path_, nearest, read_yaml
+from executive.param_files import Note, ParamsError, Path_, nearest, read_ros_yaml
 
 
 # --------------------------------------------------------------------------- the tree
@@ -125,11 +125,13 @@ def split_params_arg(text: str) -> tuple[str, str]:
     return text, ""
 
 
-def load_params_file(tree: ParamTree, spec: str, node_ns: Path_ = ("move_base",)) -> None:
+def load_params_file(tree: ParamTree, spec: str, node_ns: Path_ = ("move_base",)) -> list[Note]:
     """``--params FILE[:NAMESPACE]``: load FILE into NAMESPACE relative to the move_base node
-    (``/abs`` is a global name); without a namespace, into the move_base node itself."""
+    (``/abs`` is a global name); without a namespace, into the move_base node itself. Returns
+    the notes of reading it (keys written twice)."""
     file, ns = split_params_arg(spec)
-    doc, lines = read_yaml(file)
+    notes: list[Note] = []
+    doc, lines = read_ros_yaml(file, notes)
     if ns.startswith("/"):
         target = split_name(ns)
     elif split_name(ns)[:1] == ("amcl",):
@@ -137,6 +139,7 @@ def load_params_file(tree: ParamTree, spec: str, node_ns: Path_ = ("move_base",)
     else:
         target = node_ns + split_name(ns)
     tree.load(doc, target, file, lines)
+    return notes
 
 
 # --------------------------------------------------------------------------- what ROS tolerates

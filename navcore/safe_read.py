@@ -9,7 +9,10 @@ values all come through here, so one set of limits holds everywhere (docs/limits
 - YAML is composed with the safe loader only, nesting at most ``MAX_YAML_DEPTH`` deep, aliases
   must point at finished nodes (no self reference) and the document expanded through its aliases
   holds at most ``MAX_YAML_NODES`` nodes (no alias bomb);
-- integers beyond 64 bits and malformed tagged scalars (``!!float x``) are refused where written.
+- integers beyond 64 bits and malformed tagged scalars (``!!float x``) are refused where written;
+- a key written twice in one mapping is refused (PyYAML would keep the last without a word),
+  naming both lines; ROS parameter files, which rosparam reads with that leniency, ask for the
+  duplicates as findings instead (``duplicates=``). Keys merged in by ``<<`` may be overridden.
 
 Every failure raises the caller's error type (``error=``) with ``file:line: what``; nothing else
 escapes. navcore imports nothing of ours, so this lives here for ``navcore.maps`` and above.
@@ -177,17 +180,64 @@ def _line(ev: yaml.Event) -> int:
     return ev.start_mark.line + 1 if ev.start_mark is not None else 1
 
 
+Duplicate = tuple[int, int, str]  # a key written twice: (its line, the first's line, the key)
+
+
+def duplicate_text(key: str, first: int) -> str:
+    """What a duplicate key is called in errors and notes."""
+    return f"'{key}' appears twice in the same mapping (first at line {first})"
+
+
 def compose_yaml(text: str, file: str, *, error: ErrorType = ReadError,
-                 max_depth: int = MAX_YAML_DEPTH, max_nodes: int = MAX_YAML_NODES
-                 ) -> yaml.Node | None:
-    """The YAML node graph of ``text`` (one document; None when empty), within the limits."""
+                 max_depth: int = MAX_YAML_DEPTH, max_nodes: int = MAX_YAML_NODES,
+                 duplicates: list[Duplicate] | None = None) -> yaml.Node | None:
+    """The YAML node graph of ``text`` (one document; None when empty), within the limits.
+    A key written twice in one mapping is an error, or, when a ``duplicates`` list is given,
+    appended to it (the caller reports it; the constructor keeps the last, as PyYAML does)."""
     try:
         _check_events(text, file, error, max_depth, max_nodes)
-        return yaml.compose(text, Loader=_LOADER)
+        node = yaml.compose(text, Loader=_LOADER)
     except yaml.YAMLError as e:
         raise _yaml_error(e, file, error) from None
     except RecursionError:
         raise error(f"{file}:1: nested too deeply") from None
+    if node is not None:
+        found = _duplicate_keys(node, stop_at_first=duplicates is None)
+        if duplicates is None and found:
+            line, first, key = found[0]
+            raise error(f"{file}:{line}: {duplicate_text(key, first)}")
+        if duplicates is not None:
+            duplicates.extend(found)
+    return node
+
+
+def _duplicate_keys(root: yaml.Node, stop_at_first: bool) -> list[Duplicate]:
+    """Keys written twice in one mapping, in document order. Only the keys written in the
+    mapping count (before ``<<`` merges are flattened: an explicit key overriding a merged one
+    is legal YAML); keys compare by resolved tag and text, so ``1`` and ``"1"`` differ."""
+    found: list[Duplicate] = []
+    seen_nodes: set[int] = set()       # an aliased mapping is checked once
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen_nodes or node.__class__ is yaml.ScalarNode:
+            continue
+        seen_nodes.add(id(node))
+        if node.__class__ is yaml.MappingNode:
+            first: dict[tuple[str, str], int] = {}
+            for k, _ in node.value:
+                if k.__class__ is yaml.ScalarNode:
+                    key = (k.tag, k.value)
+                    if key not in first:
+                        first[key] = line_of(k)
+                        continue
+                    found.append((line_of(k), first[key], k.value))
+                    if stop_at_first:
+                        return found
+            stack.extend(n for pair in reversed(node.value) for n in reversed(pair))
+        else:
+            stack.extend(reversed(node.value))
+    return found
 
 
 class _BadValue(NavcoreError, ConstructorError):

@@ -161,3 +161,89 @@ def test_set_parameters_alias_bomb_is_refused(tmp_path: Path) -> None:
 def test_malformed_timestamps_are_clean_errors(text: str) -> None:
     with pytest.raises(ReadError, match="f.yaml:1: bad value: .* is not a timestamp"):
         parse_yaml(text, "f.yaml")
+
+
+# ------------------------------------------------------------------ a key written twice
+def test_duplicate_key_is_an_error_naming_both_lines_in_every_navbt_format(tmp_path: Path
+                                                                           ) -> None:
+    """PyYAML keeps the last of two equal keys without a word; every navbt-owned format refuses
+    it where it is written, with the line of the first."""
+    from executive.sweeps.spec import SweepError, load_sweep
+    robot = tmp_path / "robot.yaml"
+    robot.write_text("robot:\n  radius: 0.2\ncostmap:\n  resolution: 0.05\n"
+                     "  inflation_radius: 0.5\n  obstacle_range: 2.5\n"
+                     "  inflation_radius: 0.3\n")
+    with pytest.raises(ConfigError) as e:
+        load_config(robot)
+    assert str(e.value) == (f"{robot}:7: 'inflation_radius' appears twice in the same mapping "
+                            f"(first at line 5)")
+    scenario = tmp_path / "scn.yaml"
+    scenario.write_text("name: s\ngoals:\n  - {x: 1.0, y: 2.0, x: 3.0}\n")
+    with pytest.raises(ScenarioError, match=r"scn.yaml:3: 'x' appears twice in the same "
+                                            r"mapping \(first at line 3\)$"):
+        load_scenario(scenario)
+    map_yaml = tmp_path / "map.yaml"
+    map_yaml.write_text("image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+                        "resolution: 0.1\n")
+    with pytest.raises(MapError, match=r"map.yaml:4: 'resolution' appears twice in the same "
+                                       r"mapping \(first at line 2\)$"):
+        load_map(map_yaml)
+    sweep = tmp_path / "sweep.yaml"
+    sweep.write_text("scenarios: s/*.yaml\ngrid:\n  DWAPlannerROS.sim_time: [1.0]\n"
+                     "  DWAPlannerROS.vx_samples: [3]\n  DWAPlannerROS.sim_time: [2.0]\n")
+    with pytest.raises(SweepError, match=r"sweep.yaml:5: 'DWAPlannerROS.sim_time' appears twice "
+                                         r"in the same mapping \(first at line 3\)$"):
+        load_sweep(sweep)
+    tree = tmp_path / "tree.yaml"
+    tree.write_text(_tree("    Wait: {msec: 1,\n           msec: 2}\n"))
+    with pytest.raises(TreeLoadError, match=r"tree.yaml:4: 'msec' appears twice in the same "
+                                            r"mapping \(first at line 3\)$"):
+        load_tree_file(tree)
+
+
+def test_merged_keys_may_be_overridden_and_keys_compare_by_type() -> None:
+    """A key merged in by ``<<`` and written again is YAML's override, not a duplicate; ``1``
+    and ``"1"`` are two keys; only the mapping's own keys count (an anchor is checked once)."""
+    from executive.scenarios.source import parse_source
+    text = ("base: &b {speed: 0.5, radius: 0.2}\n"
+            "fast:\n  <<: *b\n  speed: 1.0\n"
+            "again:\n  <<: *b\n  radius: 0.3\n"
+            "types: {1: int, '1': str}\n")
+    want = {"base": {"speed": 0.5, "radius": 0.2}, "fast": {"speed": 1.0, "radius": 0.2},
+            "again": {"speed": 0.5, "radius": 0.3}, "types": {1: "int", "1": "str"}}
+    assert parse_yaml(text, "m.yaml") == want
+    assert parse_source(text, "m.yaml").doc == want        # the scenario reader's own walk
+    assert parse_source(text, "m.yaml").lines[("fast", "speed")] == 4
+    with pytest.raises(ReadError, match=r"m.yaml:2: 'speed' appears twice in the same mapping "
+                                        r"\(first at line 2\)$"):
+        parse_yaml("a: &b {x: 1}\nc: {<<: *b, speed: 1, speed: 2}\n", "m.yaml")
+
+
+def test_ros_parameter_files_keep_the_last_of_two_keys_with_a_note(tmp_path: Path) -> None:
+    """rosparam reads with PyYAML (the last key wins) and real files must load unedited: a
+    duplicate in a ROS 1 params file, a Nav2 params file or an inline <rosparam> is a note."""
+    from executive.config import ConfigSources, load_config_sources
+    from executive.nav2_params import read_nav2_params
+    from executive.ros_launch import read_launch
+    ros1 = tmp_path / "dwa.yaml"
+    ros1.write_text("DWAPlannerROS:\n  max_vel_x: 0.4\n  sim_time: 1.5\n  max_vel_x: 0.3\n")
+    cfg = load_config_sources(ConfigSources(params=[str(ros1)]))
+    assert cfg.namespaces["DWAPlannerROS"]["max_vel_x"] == 0.3
+    want = (f"{ros1}:4: note: 'max_vel_x' appears twice in the same mapping (first at line 2); "
+            f"the last one is used, as rosparam does")
+    assert [str(n) for n in cfg.report if "twice" in n.text] == [want]
+    nav2 = tmp_path / "nav2.yaml"
+    nav2.write_text("controller_server:\n  ros__parameters:\n    controller_frequency: 20.0\n"
+                    "    controller_frequency: 10.0\n")
+    notes = [n for n in read_nav2_params(nav2).notes if "twice" in n.text]
+    assert [(n.level, n.where) for n in notes] == [("note", f"{nav2}:4")]
+    assert "(first at line 3)" in notes[0].text
+    launch = tmp_path / "move_base.launch"
+    launch.write_text('<launch>\n  <node pkg="move_base" type="move_base" name="move_base">\n'
+                      '    <rosparam>\n      a: 1\n      a: 2\n    </rosparam>\n'
+                      '  </node>\n</launch>\n')
+    got = read_launch(launch, {})
+    assert got.tree.values["move_base"]["a"] == 2
+    notes = [n for n in got.notes if "twice" in n.text]
+    assert [(n.level, n.where) for n in notes] == [("note", f"{launch}:5")]
+    assert "'a' appears twice in the same mapping (first at line 4)" in notes[0].text

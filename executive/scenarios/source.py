@@ -88,7 +88,7 @@ def _build(node: yaml.Node, path: Path_, lines: dict[Path_, int], count: list[in
     lines.setdefault(path, node.start_mark.line + 1)
     if isinstance(node, yaml.MappingNode):
         _FLATTEN.flatten_mapping(node)          # '<<' merge keys, as the safe loader does
-        out: dict[Any, Any] = {}
+        pairs = []
         for knode, vnode in node.value:
             if not isinstance(knode, yaml.ScalarNode):
                 raise ScenarioError(f"{src}:{knode.start_mark.line + 1}: a mapping key must be "
@@ -96,11 +96,15 @@ def _build(node: yaml.Node, path: Path_, lines: dict[Path_, int], count: list[in
             key = node_value(knode, src, error=ScenarioError)
             if not isinstance(key, (str, int, float, bool)) and key is not None:
                 raise ScenarioError(f"{src}:{knode.start_mark.line + 1}: bad key {key!r}")
-            if key in out:
-                raise ScenarioError(f"{src}:{knode.start_mark.line + 1}: {dotted(path + (key,))}:"
-                                    " given twice")
-            lines[path + (key,)] = knode.start_mark.line + 1
-            out[key] = _build(vnode, path + (key,), lines, count, src)
+            pairs.append((key, knode, vnode))
+        # a key written twice was refused when composing; one met again here was merged in by
+        # '<<' and is overridden by the later entry (the mapping's own key), as YAML says
+        final = {key: i for i, (key, _, _) in enumerate(pairs)}
+        out: dict[Any, Any] = {}
+        for i, (key, knode, vnode) in enumerate(pairs):
+            if final[key] == i:
+                lines[path + (key,)] = knode.start_mark.line + 1
+                out[key] = _build(vnode, path + (key,), lines, count, src)
         return out
     if isinstance(node, yaml.SequenceNode):
         return [_build(v, path + (i,), lines, count, src) for i, v in enumerate(node.value)]

@@ -342,7 +342,6 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
     except OSError as e:
         raise SweepError(f"{path}: cannot read sweep file ({e.strerror or e})") from None
     doc, lines = parse_yaml_lines(text, path, error=SweepError)
-    _refuse_duplicate_keys(text, path)
     err = _Where(path, lines)
     if not isinstance(doc, Mapping):
         raise err((), "a sweep file must be a mapping")
@@ -381,27 +380,6 @@ def load_sweep(path: str | os.PathLike) -> SweepSpec:
                      description=str(doc.get("description") or "").strip())
     check_spec(spec, err, origins)
     return spec
-
-
-def _refuse_duplicate_keys(text: str, path: str) -> None:
-    """YAML keeps the last of two equal keys: an axis written twice would lose its first values
-    without a word."""
-    import yaml
-    from navcore.safe_read import compose_yaml
-    stack = [compose_yaml(text, path, error=SweepError)]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, yaml.MappingNode):
-            seen: set[str] = set()
-            for k, v in node.value:
-                if isinstance(k, yaml.ScalarNode):
-                    if k.value in seen:
-                        raise SweepError(f"{path}:{k.start_mark.line + 1}: '{k.value}' appears "
-                                         f"twice in the same mapping")
-                    seen.add(k.value)
-                stack.append(v)
-        elif isinstance(node, yaml.SequenceNode):
-            stack.extend(node.value)
 
 
 def check_spec(spec: SweepSpec, err: _Where,
