@@ -44,14 +44,11 @@ class _Reader:
         if node.tag != "tag:yaml.org,2002:map":
             raise TreeLoadError(f"{self.where(node)}: {what}: YAML tag '{node.tag}' is not allowed "
                             f"(trees are plain data)")
-        out, seen = [], set()
-        for k, v in node.value:
+        out = []
+        for k, v in node.value:  # a key written twice was refused by compose_yaml
             key = self.value(k)
             if not isinstance(key, str):
                 raise TreeLoadError(f"{self.where(k)}: {what}: keys must be names, got {key!r}")
-            if key in seen:
-                raise TreeLoadError(f"{self.where(k)}: {what}: '{key}' appears twice")
-            seen.add(key)
             out.append((key, v, self.where(k)))
         return out
 
