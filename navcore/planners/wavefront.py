@@ -6,21 +6,8 @@ otherwise to ``overflow``; when current and next are empty the threshold rises b
 and the overflow becomes current. The update is navfn's quadratic (planar-wave) one or the plain
 ``min(4 neighbours) + cost``.
 
-Deliberate differences from the C++ (the first three fix real faults; none but the band width
-changes a converged value):
-
-* The buffers hold the whole map, so no push is ever dropped (ROS caps them at 10000 and silently
-  loses cells on large open maps).
-* A cell waiting in the overflow buffer is also queued for the current band when a cell below the
-  threshold can lower it (ROS leaves it waiting, so the band can end with it unfinished).
-* The search stops when a threshold band is exhausted with the target's potential below it, not at
-  the first cycle that touches the target. Every update only raises potential (by at least 0.704
-  of a cell cost), so all cells below a finished band are final: the target's potential is the
-  converged (for the plain update: the exact Dijkstra) value, not a first-touch estimate.
-* A queue filled as ``next`` has its cells' flags cleared one by one as they come up, not all at
-  the start of the cycle, so a cell lowered earlier in the same cycle is not queued again.
-* The planners use bands ``BAND_NEUTRALS`` (10) neutral costs wide, not 2 (see there): fewer
-  updates; the plain update's values do not depend on it, the quadratic one's move slightly.
+Where this differs from the C++ (no dropped pushes, no cell left waiting in the overflow, a
+converged target, wider bands) is listed in docs/ros-users.md, "The planners' wavefront".
 
 Costs reach the kernel as the raw uint8 costmap plus a 256-entry float32 lookup table (the
 planner's cost transform). Each cell has an 8-byte record: its potential and its "gate" (queue
