@@ -220,6 +220,35 @@ DWA_LIKE = (Param("path_distance_bias", 32.0, float, "weight of staying on the p
             Param("occdist_scale", 0.01, float, "weight of obstacle distance", 0.0))
 
 
+class ReversingController:
+    """A local planner allowed to reverse (min_vel_x < 0): straight at its plan's last pose at
+    0.3 m/s, backwards when that pose lies behind; GOAL_REACHED within 0.05 m. ``calls``
+    counts ``compute_velocity``."""
+
+    def __init__(self) -> None:
+        self.plan: Path | None = None
+        self.calls = 0
+
+    def set_plan(self, path: Path) -> None:
+        self.plan = path
+
+    def reset(self) -> None:
+        pass
+
+    def is_goal_reached(self) -> bool:
+        return False
+
+    def compute_velocity(self, pose: Pose2D, velocity: Twist, path: Path | None = None
+                         ) -> ControlResult:
+        self.calls += 1
+        assert self.plan is not None
+        ahead = self.plan.pose(len(self.plan) - 1).relative_to(pose)
+        if math.hypot(ahead.x, ahead.y) < 0.05:
+            return ControlResult(Twist.zero(), ControlStatus.GOAL_REACHED)
+        return ControlResult(Twist(math.copysign(0.3, ahead.x), 0.0, 0.0),
+                             ControlStatus.FOLLOWING)
+
+
 @dataclass
 class ScriptedWorld:
     """Everything ``tree.setup`` needs, scripted (a test double, not the simulator's
@@ -341,5 +370,6 @@ def noop_components(parameters: dict[str, Parameters]) -> dict[str, Any]:
     }
 
 
-__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController", "ScriptedWorld",
+__all__ = ["FakeRobot", "FakeCostmap", "ScriptedPlanner", "ScriptedController",
+           "ReversingController", "ScriptedWorld",
            "NodeRig", "noop_components", "run_tree", "straight_path", "DWA_LIKE"]

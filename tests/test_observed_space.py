@@ -465,33 +465,11 @@ def test_back_off_follows_the_trail_it_drove_but_not_a_trail_gone_stale():
     assert status == F and reader.get("code") == RecoveryError.UNOBSERVED_SPACE
 
 
-class Reverser:
-    """A local planner allowed to reverse: straight at the goal, backwards when it is behind."""
-
-    def __init__(self) -> None:
-        self.plan = None
-
-    def set_plan(self, path) -> None:
-        self.plan = path
-
-    def reset(self) -> None:
-        pass
-
-    def is_goal_reached(self) -> bool:
-        return False
-
-    def compute_velocity(self, pose, velocity, path=None):
-        from navcore.controllers.result import ControlResult, ControlStatus
-        ahead = self.plan.pose(len(self.plan) - 1).relative_to(pose)
-        return ControlResult(Twist(math.copysign(0.3, ahead.x), 0.0, 0.0),
-                             ControlStatus.FOLLOWING)
-
-
 def test_follow_path_turns_instead_of_reversing_blind_and_reverses_where_it_has_looked():
-    from behaviors.testing import straight_path
+    from behaviors.testing import ReversingController, straight_path
     occ = box_behind_world()
     w = GridWorld(occ, Pose2D(3.0, 3.0, 0.0))
-    w.world.controller = Reverser()
+    w.world.controller = ReversingController()
     w.bb.register_key("path", access=Access.WRITE)
     w.bb.set("path", straight_path(Pose2D(3.0, 3.0, math.pi), Pose2D(1.0, 3.0, math.pi)))
     node = w.node("FollowPath")
@@ -512,7 +490,7 @@ def test_follow_path_turns_instead_of_reversing_blind_and_reverses_where_it_has_
                             int((2.37 - w.space.origin_x) / RES)] > 0.0   # the box face
     # space just seen free (a look behind a second ago, no box): the same planner may reverse
     w2 = GridWorld(np.zeros((120, 120), np.uint8), Pose2D(3.0, 3.0, 0.0))
-    w2.world.controller = Reverser()
+    w2.world.controller = ReversingController()
     w2.turn_to(math.pi)
     w2.wait(1.0)
     w2.turn_to(0.0)

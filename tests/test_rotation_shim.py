@@ -12,40 +12,14 @@ from py_trees.blackboard import Client
 from py_trees.common import Access, Status
 
 from behaviors.base import make
-from behaviors.testing import FakeCostmap, FakeRobot, ScriptedWorld, straight_path
-from navcore.controllers.result import ControlResult, ControlStatus
+from behaviors.testing import (FakeCostmap, FakeRobot, ReversingController, ScriptedWorld,
+                               straight_path)
 from navcore.controllers.rotation_shim import ShimParams, heading_error, turn_command
 from navcore.error_codes import ControllerError
 from navcore.types import Pose2D, Twist, angle_diff
 
 S, F, R = Status.SUCCESS, Status.FAILURE, Status.RUNNING
 _ns = itertools.count()
-
-
-class ReversingController:
-    """Drives straight at the goal, backwards when it lies behind (a planner with
-    min_vel_x < 0 following a path that starts behind the robot)."""
-
-    def __init__(self) -> None:
-        self.plan = None
-        self.calls = 0
-
-    def set_plan(self, path) -> None:
-        self.plan = path
-
-    def reset(self) -> None:
-        pass
-
-    def is_goal_reached(self) -> bool:
-        return False
-
-    def compute_velocity(self, pose, velocity, path=None) -> ControlResult:
-        self.calls += 1
-        goal = self.plan.pose(len(self.plan) - 1)
-        ahead = goal.relative_to(pose)
-        if math.hypot(ahead.x, ahead.y) < 0.05:
-            return ControlResult(Twist.zero(), ControlStatus.GOAL_REACHED)
-        return ControlResult(Twist(math.copysign(0.3, ahead.x), 0.0, 0.0), ControlStatus.FOLLOWING)
 
 
 def test_heading_error_aims_at_the_path_ahead_and_leaves_a_near_goal_alone():
