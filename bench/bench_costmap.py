@@ -97,6 +97,24 @@ def bench_inflation(n: int, repeat: int, num_threads: int = 1) -> float:
     return _best_ms(run, repeat)
 
 
+class _ScanWalk:
+    """A robot creeping diagonally with a 720-beam scan of random ranges (1-2.5 m) each step."""
+
+    N = 720
+
+    def __init__(self) -> None:
+        self.rng = np.random.default_rng(0)
+        self.k = 0
+
+    def next(self) -> tuple[LaserScan, Pose2D]:
+        k, inc = self.k, 2 * math.pi / self.N
+        self.k += 1
+        ranges = (1.0 + 1.5 * self.rng.random(self.N)).astype(np.float32)
+        scan = LaserScan(0.0, -math.pi, -math.pi + inc * (self.N - 1), inc, 0.0, 0.1, 0.05, 30.0,
+                         ranges)
+        return scan, Pose2D(0.02 * k, 0.01 * k, 0.01 * k)
+
+
 def bench_local_update(repeat: int) -> float:
     clock = SimClock()
     cm = LayeredCostmap.from_params({
@@ -105,18 +123,10 @@ def bench_local_update(repeat: int) -> float:
         "obstacle_layer": {"observation_sources": "scan",
                            "scan": {"data_type": "LaserScan", "marking": True, "clearing": True}},
     }, name="local_costmap", clock=clock)
-    n = 720
-    inc = 2 * math.pi / n
-    rng = np.random.default_rng(0)
-    state = {"k": 0}
+    scans = _ScanWalk()
 
     def run() -> None:
-        k = state["k"]
-        state["k"] += 1
-        ranges = (1.0 + 1.5 * rng.random(n)).astype(np.float32)
-        scan = LaserScan(0.0, -math.pi, -math.pi + inc * (n - 1), inc, 0.0, 0.1, 0.05, 30.0,
-                         ranges)
-        pose = Pose2D(0.02 * k, 0.01 * k, 0.01 * k)
+        scan, pose = scans.next()
         clock.advance(0.1)
         cm.add_scan(scan, pose)
         cm.update_map(pose)
@@ -129,22 +139,14 @@ def bench_observed_space(repeat: int) -> tuple[float, float]:
     from navcore.costmap.observed_space import ObservedSpace
     fp = [[0.25, 0.22], [0.25, -0.22], [-0.25, -0.22], [-0.25, 0.22]]
     space = ObservedSpace.around(0.05, 8.0, 8.0, fp, make_footprint(fp, footprint_padding=0.03))
-    n = 720
-    inc = 2 * math.pi / n
-    rng = np.random.default_rng(0)
-    state = {"k": 0}
+    scans = _ScanWalk()
 
     def cycle() -> None:
-        k = state["k"]
-        state["k"] += 1
-        ranges = (1.0 + 1.5 * rng.random(n)).astype(np.float32)
-        scan = LaserScan(0.0, -math.pi, -math.pi + inc * (n - 1), inc, 0.0, 0.1, 0.05, 30.0,
-                         ranges)
-        pose = Pose2D(0.02 * k, 0.01 * k, 0.01 * k)
-        space.update(pose, scan, pose.compose(Pose2D(0.15, 0.0, 0.0)), 0.1 * k)
+        scan, pose = scans.next()
+        space.update(pose, scan, pose.compose(Pose2D(0.15, 0.0, 0.0)), 0.1 * (scans.k - 1))
 
     update = _best_ms(cycle, repeat)
-    pose = Pose2D(0.02 * state["k"], 0.01 * state["k"], 0.0)
+    pose = Pose2D(0.02 * scans.k, 0.01 * scans.k, 0.0)
     back = [pose.compose(Pose2D(-0.05 * i, 0.0, 0.0)) for i in range(1, 7)]
     check = _best_ms(lambda: space.first_unobserved(back, pose, -1.0), repeat)
     return update, check
