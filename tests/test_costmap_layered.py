@@ -151,6 +151,33 @@ def test_rolling_window_over_a_static_map_samples_the_map():
                 assert cm.costmap.costs[my, mx] == expected
 
 
+def test_rolling_static_sampling_equals_the_per_cell_centre_lookup_on_random_windows():
+    # the kernel against the plain numpy statement of "the map cell under each cell centre",
+    # for windows partly or wholly off the map, at finer and coarser resolutions than the map
+    from navcore.costmap.static_layer import sample_map
+    rng = np.random.default_rng(7)
+    map_costs = rng.integers(0, 256, size=(37, 53)).astype(np.uint8)
+    map_ox, map_oy, map_res = -1.3, 0.7, 0.1
+    for _ in range(200):
+        res = float(rng.choice([0.03, 0.05, 0.1, 0.25]))
+        h, w = (int(v) for v in rng.integers(1, 40, size=2))
+        # anywhere from just left of / below the map to just past its far edges
+        ox = float(rng.uniform(map_ox - w * res, map_ox + 53 * map_res))
+        oy = float(rng.uniform(map_oy - h * res, map_oy + 37 * map_res))
+        x0, y0 = int(rng.integers(0, w)), int(rng.integers(0, h))
+        xn, yn = int(rng.integers(x0, w + 1)), int(rng.integers(y0, h + 1))
+        start = rng.integers(0, 256, size=(h, w)).astype(np.uint8)
+        got = start.copy()
+        sample_map(got, x0, y0, xn, yn, ox, oy, res, map_costs, map_ox, map_oy, map_res)
+        want = start.copy()
+        mx = np.floor((ox + (np.arange(x0, xn) + 0.5) * res - map_ox) / map_res).astype(np.int64)
+        my = np.floor((oy + (np.arange(y0, yn) + 0.5) * res - map_oy) / map_res).astype(np.int64)
+        xs = np.nonzero((mx >= 0) & (mx < map_costs.shape[1]))[0]
+        ys = np.nonzero((my >= 0) & (my < map_costs.shape[0]))[0]
+        want[np.ix_(y0 + ys, x0 + xs)] = map_costs[np.ix_(my[ys], mx[xs])]
+        np.testing.assert_array_equal(got, want)
+
+
 def test_footprint_clearing_frees_the_robot_cells():
     cm = _local(plugins=["obstacle_layer"])
     cm.add_points(np.array([[0.05, 0.0, 0.3], [1.0, 0.0, 0.3]]), (0.0, 0.0, 0.3))

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from navcore.costmap.cost_values import FREE_SPACE, LETHAL_OBSTACLE, NO_INFORMATION
 from navcore.costmap.costmap2d import Costmap2D
@@ -104,14 +107,22 @@ class StaticLayer(CostmapLayer):
             return
         # rolling window: sample the map at each master cell centre; cells off the map stay as is
         m = self.map
-        mx = np.floor((master.origin_x + (np.arange(x0, xn) + 0.5) * master.resolution
-                       - m.origin_x) / m.resolution).astype(np.int64)
-        my = np.floor((master.origin_y + (np.arange(y0, yn) + 0.5) * master.resolution
-                       - m.origin_y) / m.resolution).astype(np.int64)
-        okx = (mx >= 0) & (mx < m.size_x)
-        oky = (my >= 0) & (my < m.size_y)
-        if not okx.any() or not oky.any():
-            return
-        xs = np.nonzero(okx)[0]
-        ys = np.nonzero(oky)[0]
-        master.costs[np.ix_(y0 + ys, x0 + xs)] = m.costs[np.ix_(my[ys], mx[xs])]
+        sample_map(master.costs, x0, y0, xn, yn, master.origin_x, master.origin_y,
+                   master.resolution, m.costs, m.origin_x, m.origin_y, m.resolution)
+
+
+@njit(cache=True, nogil=True)
+def sample_map(costs: np.ndarray, x0: int, y0: int, xn: int, yn: int, origin_x: float,
+               origin_y: float, resolution: float, map_costs: np.ndarray, map_origin_x: float,
+               map_origin_y: float, map_resolution: float) -> None:
+    """Set each cell [y0, yn) x [x0, xn) of ``costs`` to the map cell under its centre; a cell
+    whose centre is off the map keeps its cost (the rolling window's static layer)."""
+    map_h, map_w = map_costs.shape
+    for j in range(y0, yn):
+        my = math.floor((origin_y + (j + 0.5) * resolution - map_origin_y) / map_resolution)
+        if not 0 <= my < map_h:
+            continue
+        for i in range(x0, xn):
+            mx = math.floor((origin_x + (i + 0.5) * resolution - map_origin_x) / map_resolution)
+            if 0 <= mx < map_w:
+                costs[j, i] = map_costs[int(my), int(mx)]
