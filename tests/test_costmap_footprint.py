@@ -233,3 +233,15 @@ def test_reach_square_holds_every_cell_the_footprint_covers(res):
             th = rng.uniform(-math.pi, math.pi)
             assert footprint_cost(costs, 0.0, 0.0, res, fp * scale, x, y, th) == 0
     assert bound_reach(fp, 0.05) == int(math.hypot(0.25, 0.22) / 0.05) + 1
+
+
+def test_transform_footprint_is_the_rotation_then_translation_of_each_vertex():
+    rng = np.random.default_rng(3)
+    for n in (1, 4, 16):
+        fp = rng.uniform(-0.6, 0.6, size=(n, 2))
+        for _ in range(50):
+            x, y, th = rng.uniform(-40.0, 40.0), rng.uniform(-40.0, 40.0), rng.uniform(-7.0, 7.0)
+            c, s = np.cos(th), np.sin(th)
+            want = np.stack([x + c * fp[:, 0] - s * fp[:, 1], y + s * fp[:, 0] + c * fp[:, 1]],
+                            axis=1)
+            np.testing.assert_array_equal(transform_footprint(fp, x, y, th), want)

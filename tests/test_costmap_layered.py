@@ -14,7 +14,7 @@ from navcore.costmap.cost_values import (FREE_SPACE, INSCRIBED_INFLATED_OBSTACLE
                                          NO_INFORMATION)
 from navcore.costmap.inflation import compute_cost
 from navcore.costmap.layered import LayeredCostmap
-from navcore.costmap.obstacle_layer import ObstacleLayer
+from navcore.costmap.obstacle_layer import ObstacleLayer, scan_to_points
 from navcore.costmap.static_layer import interpret_map
 from navcore.costmap.voxel_layer import VoxelLayer
 from navcore.maps import OccupancyGrid, load_map
@@ -541,3 +541,46 @@ def test_a_costmap_is_freed_as_soon_as_it_is_dropped():
         assert ref() is None
     finally:
         gc.enable()
+
+
+def _numpy_scan_points(scan, pose, z, inf_is_valid):
+    # the plain statement: drop NaN and out-of-range readings, inf -> just short of range_max
+    r = np.asarray(scan.ranges, dtype=np.float64).copy()
+    if inf_is_valid:
+        r[np.isinf(r) & (r > 0)] = scan.range_max - 0.0001
+    ok = np.isfinite(r) & (r >= scan.range_min) & (r < scan.range_max)
+    a = scan.angles()[ok] + pose.theta
+    r = r[ok]
+    return np.stack([pose.x + r * np.cos(a), pose.y + r * np.sin(a), np.full(len(r), z)], axis=1)
+
+
+@pytest.mark.parametrize("inf_is_valid", [False, True])
+def test_scan_points_are_the_valid_beam_ends_in_beam_order(inf_is_valid):
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        n = int(rng.integers(1, 400))
+        ranges = rng.uniform(-1.0, 12.0, n)
+        odd = rng.random(n)
+        ranges[odd < 0.1] = np.nan
+        ranges[(odd >= 0.1) & (odd < 0.2)] = np.inf
+        ranges[(odd >= 0.2) & (odd < 0.25)] = -np.inf
+        a0 = float(rng.uniform(-3.2, 0.0))
+        inc = float(rng.uniform(0.001, 0.05))
+        scan = LaserScan(0.0, a0, a0 + inc * (n - 1), inc, 0.0, 0.1, 0.05, 10.0, ranges)
+        pose = Pose2D(*rng.uniform(-20.0, 20.0, 2), float(rng.uniform(-7.0, 7.0)))
+        got = scan_to_points(scan, pose, 0.3, inf_is_valid)
+        np.testing.assert_array_equal(got, _numpy_scan_points(scan, pose, 0.3, inf_is_valid))
+
+
+def test_observations_keep_the_finite_points_within_the_source_heights():
+    from navcore.costmap.obstacle_layer import _kept_points
+    rng = np.random.default_rng(5)
+    pts = rng.uniform(-1.0, 3.0, size=(500, 3))
+    pts[rng.random(pts.shape) < 0.05] = np.nan
+    pts[rng.random(pts.shape) < 0.02] = np.inf
+    pts[:4] = [[0.0, 0.0, 0.2], [0.0, 0.0, 1.5], [0.0, 0.0, 0.2 - 1e-12], [0.0, 0.0, 1.5 + 1e-12]]
+    got = _kept_points(pts, 0.2, 1.5)
+    keep = np.isfinite(pts).all(axis=1) & (pts[:, 2] >= 0.2) & (pts[:, 2] <= 1.5)
+    np.testing.assert_array_equal(got, pts[keep])
+    np.testing.assert_array_equal(got[:2, 2], [0.2, 1.5])  # the limits are kept, beyond them not
+    assert got.flags.c_contiguous and 0 < len(got) < len(pts)

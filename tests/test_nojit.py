@@ -35,6 +35,9 @@ SELECTED = [
     "tests/test_costmap_grid.py",
     "tests/test_costmap_layered.py::test_rolling_static_sampling_equals_the_per_cell_centre_"
     "lookup_on_random_windows",
+    "tests/test_costmap_layered.py::test_scan_points_are_the_valid_beam_ends_in_beam_order",
+    "tests/test_costmap_layered.py::test_observations_keep_the_finite_points_within_the_source_"
+    "heights",
     "tests/test_costmap_inflation.py::test_inflation_agrees_with_brute_force_on_random_small_maps",
     "tests/test_costmap_inflation.py::test_exact_distance_transform_matches_brute_force",
     "tests/test_costmap_inflation.py::test_inflated_costs_equal_the_formula_around_one_obstacle",

@@ -393,5 +393,14 @@ def footprint_costs(costs: np.ndarray, origin_x: float, origin_y: float, resolut
 
 def transform_footprint(fp: np.ndarray, x: float, y: float, theta: float) -> np.ndarray:
     """The footprint polygon placed at pose (x, y, theta) in the world frame, (N, 2)."""
-    c, s = math.cos(theta), math.sin(theta)
-    return np.stack([x + c * fp[:, 0] - s * fp[:, 1], y + s * fp[:, 0] + c * fp[:, 1]], axis=1)
+    return _placed_polygon(fp, x, y, math.cos(theta), math.sin(theta))
+
+
+@njit(cache=True, nogil=True)
+def _placed_polygon(fp: np.ndarray, x: float, y: float, c: float, s: float) -> np.ndarray:
+    # a kernel, not four numpy expressions: the costmaps place the footprint twice a cycle
+    out = np.empty((fp.shape[0], 2))
+    for i in range(fp.shape[0]):
+        out[i, 0] = x + c * fp[i, 0] - s * fp[i, 1]
+        out[i, 1] = y + s * fp[i, 0] + c * fp[i, 1]
+    return out

@@ -113,17 +113,54 @@ def scan_to_points(scan: LaserScan, sensor_pose: Pose2D, sensor_z: float = 0.0,
     inf reading becomes a point just short of range_max, which clears without marking when
     range_max exceeds the obstacle range (costmap_2d laserScanValidInfCallback).
     """
-    r = np.asarray(scan.ranges, dtype=np.float64).copy()
-    if inf_is_valid:
-        r[np.isinf(r) & (r > 0)] = scan.range_max - 0.0001
-    ok = np.isfinite(r) & (r >= scan.range_min) & (r < scan.range_max)
-    a = scan.angles()[ok] + sensor_pose.theta
-    r = r[ok]
-    pts = np.empty((len(r), 3), dtype=np.float64)
-    pts[:, 0] = sensor_pose.x + r * np.cos(a)
-    pts[:, 1] = sensor_pose.y + r * np.sin(a)
-    pts[:, 2] = sensor_z
-    return pts
+    return _scan_points(scan.ranges, float(scan.angle_min), float(scan.angle_increment),
+                        float(scan.range_min), float(scan.range_max), bool(inf_is_valid),
+                        float(sensor_pose.x), float(sensor_pose.y), float(sensor_pose.theta),
+                        float(sensor_z))
+
+
+@njit(cache=True, nogil=True)
+def _scan_points(ranges: np.ndarray, angle_min: float, angle_increment: float,
+                 range_min: float, range_max: float, inf_is_valid: bool, x: float, y: float,
+                 theta: float, z: float) -> np.ndarray:
+    """The kernel of ``scan_to_points``: beam i at angle_min + angle_increment * i (as
+    LaserScan.angles), the valid ones in beam order."""
+    pts = np.empty((ranges.shape[0], 3))
+    n = 0
+    for i in range(ranges.shape[0]):
+        r = float(ranges[i])
+        if inf_is_valid and math.isinf(r) and r > 0:
+            r = range_max - 0.0001
+        if not (math.isfinite(r) and r >= range_min and r < range_max):
+            continue
+        a = (angle_min + angle_increment * float(i)) + theta
+        pts[n, 0] = x + r * math.cos(a)
+        pts[n, 1] = y + r * math.sin(a)
+        pts[n, 2] = z
+        n += 1
+    return pts[:n]
+
+
+@njit(cache=True, nogil=True)
+def _kept_points(pts: np.ndarray, min_height: float, max_height: float) -> np.ndarray:
+    """The rows of ``pts`` (N, 3) that are finite with min_height <= z <= max_height, in order,
+    as a new C-contiguous array."""
+    keep = np.empty(pts.shape[0], dtype=np.bool_)
+    n = 0
+    for i in range(pts.shape[0]):
+        px, py, pz = pts[i, 0], pts[i, 1], pts[i, 2]
+        keep[i] = (math.isfinite(px) and math.isfinite(py) and math.isfinite(pz)
+                   and pz >= min_height and pz <= max_height)
+        n += keep[i]
+    out = np.empty((n, 3))
+    k = 0
+    for i in range(pts.shape[0]):
+        if keep[i]:
+            out[k, 0] = pts[i, 0]
+            out[k, 1] = pts[i, 1]
+            out[k, 2] = pts[i, 2]
+            k += 1
+    return out
 
 
 @njit(cache=True, nogil=True)
@@ -362,9 +399,7 @@ class ObstacleLayer(CostmapLayer):
         if not np.all(np.isfinite(origin)):
             raise ValueError(f"{self.name}: sensor origin {origin!r} is not finite")
         p = buf.params
-        keep = (np.isfinite(pts).all(axis=1) & (pts[:, 2] >= p.min_obstacle_height)
-                & (pts[:, 2] <= p.max_obstacle_height))
-        pts = np.ascontiguousarray(pts[keep]) if not keep.all() else np.ascontiguousarray(pts)
+        pts = _kept_points(pts, float(p.min_obstacle_height), float(p.max_obstacle_height))
         buf.add(Observation(pts, origin.astype(np.float64), p.obstacle_range, p.raytrace_range))
 
     def is_current(self) -> bool:
