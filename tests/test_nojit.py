@@ -43,6 +43,10 @@ SELECTED = [
     "tests/test_costmap_inflation.py::test_inflated_costs_equal_the_formula_around_one_obstacle",
     # observed-space memory
     "tests/test_observed_space.py::test_stamp_scan_matches_the_plain_reference",
+    "tests/test_observed_space.py::test_stamp_scan_stamps_the_cells_the_per_beam_raytrace_stamped",
+    "tests/test_observed_space.py::test_fan_angles_are_the_scans_angles_turned_bit_for_bit",
+    "tests/test_observed_space.py::test_update_stamps_what_the_window_move_the_raytrace_scan_and_"
+    "the_body_stamp_stamp",
     "tests/test_observed_space.py::test_free_body_matches_the_numpy_reference",
     # controllers
     "tests/test_controllers_rollout.py::test_start_footprint_cells_agree_with_the_numpy_even_odd_"

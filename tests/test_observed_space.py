@@ -16,10 +16,12 @@ from behaviors.base import make
 from behaviors.testing import FakeCostmap, ScriptedWorld
 from navcore.costmap.cost_values import LETHAL_OBSTACLE
 from navcore.costmap.costmap2d import _fill_convex_cells, shift_grid
-from navcore.costmap.observed_space import (NEVER, ObservedSpace, first_unobserved, free_body,
-                                            stamp_scan)
+from navcore.costmap.footprint import make_footprint
+from navcore.costmap.obstacle_layer import raytrace_line
+from navcore.costmap.observed_space import (NEVER, ObservedSpace, fan_angles, first_unobserved,
+                                            free_body, stamp_scan)
 from navcore.error_codes import BackUpError, DriveOnHeadingError, RecoveryError, SpinError
-from navcore.raycast import cast_rays
+from navcore.raycast import _clip_to_grid, cast_rays
 from navcore.types import LaserScan, Pose2D, Twist
 
 RES = 0.05
@@ -127,6 +129,133 @@ def test_stamp_scan_matches_the_plain_reference():
     assert 0 < np.sum(np.isfinite(occ)) < np.sum(np.isfinite(free))
     # a laser off the grid stamps nothing
     assert stamp_scan(free, occ, 0.0, 0.0, RES, -1.0, 1.0, angles, ranges, 0.05, 2.5, 5.0) == 0
+
+
+def raytrace_stamp(free, occupied, origin_x, origin_y, resolution, ox, oy, angles, ranges,
+                   range_min, range_max, now):
+    """``stamp_scan`` as it was before the flat two-beam walk: per beam the same clip and end
+    cell, then the obstacle layer's ``raytrace_line`` on the 2-D grid (plain Python around it)."""
+    h, w = free.shape
+    gx = (ox - origin_x) / resolution
+    gy = (oy - origin_y) / resolution
+    if not (0.0 <= gx < w and 0.0 <= gy < h):
+        return 0
+    x0, y0 = int(gx), int(gy)
+    n = 0
+    for a, r in zip(angles, ranges):
+        r = float(r)
+        if not r >= range_min:
+            continue
+        hit = r < range_max
+        length = r if hit else range_max
+        dx, dy = math.cos(a), math.sin(a)
+        t_end = length / resolution
+        t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
+        if t0 > t1:
+            continue
+        inside = hit and t1 >= t_end
+        t = t_end + 1e-6 if inside else t1 - 1e-9
+        x1 = min(max(int(math.floor(gx + t * dx)), 0), w - 1)
+        y1 = min(max(int(math.floor(gy + t * dy)), 0), h - 1)
+        raytrace_line(free, x0, y0, x1, y1, w + h, now)
+        if inside:
+            occupied[y1, x1] = now
+        n += 1
+    return n
+
+
+def test_stamp_scan_stamps_the_cells_the_per_beam_raytrace_stamped():
+    # grids down to one cell, lasers on cell corners, on the grid's edges and off it, beams
+    # along the axes and diagonals, readings NaN / inf / negative / at the limits
+    rng = np.random.default_rng(17)
+    compass = np.arange(-8, 9) * (math.pi / 4)
+    for case in range(40):
+        h, w = [(1, 1), (1, 9), (9, 1), (2, 3), (23, 31), (40, 64)][case % 6]
+        res = float(rng.choice([RES, 0.1, 0.031]))
+        ox0, oy0 = rng.uniform(-2.0, 2.0, 2)
+        where = case % 4
+        if where == 0:      # anywhere near the grid, on it or not
+            gx, gy = rng.uniform(-0.2, 1.2) * w, rng.uniform(-0.2, 1.2) * h
+        elif where == 1:    # a cell corner
+            gx, gy = float(rng.integers(0, w)), float(rng.integers(0, h))
+        elif where == 2:    # the low and high edges
+            gx, gy = float(rng.choice([0.0, w - 1e-9])), float(rng.choice([0.0, h - 1e-9]))
+        else:
+            gx, gy = rng.uniform(0, w), rng.uniform(0, h)
+        lx, ly = ox0 + gx * res, oy0 + gy * res
+        n = int(rng.integers(0, 90))
+        angles = np.where(rng.random(n) < 0.3, rng.choice(compass, n), rng.uniform(-7, 7, n))
+        ranges = rng.uniform(-0.1, 1.5 * max(h, w) * res, n)
+        pick = rng.random(n)
+        ranges[pick < 0.1] = np.nan
+        ranges[(pick >= 0.1) & (pick < 0.2)] = np.inf
+        ranges[(pick >= 0.2) & (pick < 0.25)] = 2.5
+        ranges[(pick >= 0.25) & (pick < 0.3)] = 0.0
+        rmin = float(rng.choice([0.0, 0.05, -1.0]))
+        free = np.where(rng.random((h, w)) < 0.5, rng.uniform(0, 3, (h, w)), NEVER)
+        occ = np.where(rng.random((h, w)) < 0.2, rng.uniform(0, 3, (h, w)), NEVER)
+        ref_f, ref_o = free.copy(), occ.copy()
+        want = raytrace_stamp(ref_f, ref_o, ox0, oy0, res, lx, ly, angles, ranges, rmin, 2.5, 4.0)
+        got = stamp_scan(free, occ, ox0, oy0, res, lx, ly, angles, ranges, rmin, 2.5, 4.0)
+        assert got == want, case
+        np.testing.assert_array_equal(free, ref_f, err_msg=f"case {case}")
+        np.testing.assert_array_equal(occ, ref_o, err_msg=f"case {case}")
+
+
+def test_fan_angles_are_the_scans_angles_turned_bit_for_bit():
+    rng = np.random.default_rng(5)
+    for _ in range(30):
+        n = int(rng.integers(1, 800))
+        a0, inc = rng.uniform(-math.pi, 0.0), rng.uniform(1e-4, 2 * math.pi / n)
+        theta = float(rng.choice([0.0, -0.0, math.pi, rng.uniform(-4.0, 4.0)]))
+        scan = LaserScan(0.0, a0, a0 + (n - 1) * inc, inc, 0.0, 0.1, 0.02, 5.0, np.ones(n))
+        want = scan.angles() + theta
+        got = fan_angles(scan.angle_min, scan.angle_increment, theta, n)
+        np.testing.assert_array_equal(got.view(np.int64), want.view(np.int64))
+
+
+def test_update_stamps_what_the_window_move_the_raytrace_scan_and_the_body_stamp_stamp():
+    # a robot drifting one way long enough that the window's store runs out, with steps back,
+    # jumps further than the window, cycles without a scan and scans of every kind of reading
+    rng = np.random.default_rng(23)
+    padded = make_footprint(RECT, footprint_padding=0.03)
+    space = ObservedSpace(RES, 50, 40, RECT, padded)
+    parts = ObservedSpace(RES, 50, 40, RECT, padded)
+    ref = ObservedSpace(RES, 50, 40, RECT, padded)
+    pose = Pose2D(1.3, 1.0, 0.4)
+    n = 61
+    hits = moves = 0
+    for step in range(90):
+        jump = step in (30, 61)
+        pose = Pose2D(pose.x + (rng.uniform(-4.0, 4.0) if jump else rng.uniform(-0.05, 0.1)),
+                      pose.y + (rng.uniform(-4.0, 4.0) if jump else rng.uniform(0.0, 0.12)),
+                      pose.theta + rng.uniform(-0.4, 0.4))
+        now = 0.1 * step
+        ranges = rng.uniform(0.0, 2.0, n).astype(np.float32)
+        ranges[rng.random(n) < 0.1] = np.nan
+        ranges[rng.random(n) < 0.1] = np.inf
+        scan = None if step % 5 == 4 else LaserScan(now, -2.0, -2.0 + (n - 1) * 0.067, 0.067,
+                                                     0.0, 0.1, 0.02, 1.8, ranges)
+        lp = pose.compose(MOUNT)
+        origin = (space.origin_x, space.origin_y)
+        space.update(pose, scan, lp, now)
+        moves += origin != (space.origin_x, space.origin_y)
+        hits += int(np.sum(space.occupied == now))
+        parts.recentre(pose.x, pose.y)
+        ref.recentre(pose.x, pose.y)
+        if scan is not None:
+            parts.add_scan(scan, lp, now)
+            raytrace_stamp(ref.free, ref.occupied, ref.origin_x, ref.origin_y, RES, lp.x, lp.y,
+                           scan.angles() + lp.theta, np.asarray(scan.ranges, dtype=np.float64),
+                           scan.range_min, scan.range_max, now)
+        parts.add_body(pose, now)
+        ref_free_body(ref.free, ref.occupied, ref.clearing_footprint, pose, ref.origin_x,
+                      ref.origin_y, now)
+        for got in (space, parts):
+            assert (got.origin_x, got.origin_y) == (ref.origin_x, ref.origin_y)
+            np.testing.assert_array_equal(got.free, ref.free, err_msg=f"step {step}")
+            np.testing.assert_array_equal(got.occupied, ref.occupied, err_msg=f"step {step}")
+    assert hits > 100 and moves > 60
 
 
 def ref_free_body(free, occupied, fp, pose, ox, oy, now):

@@ -12,8 +12,9 @@ that ended in it in the same scan wins: occupied). Cells no beam reached (behind
 laser, say) stay unknown.
 
 The grid is a rolling window around the robot on the world lattice, so it keeps what it saw
-while the robot moves inside it. The ray walk is costmap_2d's (``raytrace_line``, the obstacle
-layer's clearing walk), clipped to the window with ``navcore.raycast``'s slab clip; the body is
+while the robot moves inside it. The ray walk visits the cells costmap_2d's does
+(``raytrace_line``, the obstacle layer's clearing walk; walked here on the flat store, two beams
+at a time), clipped to the window with ``navcore.raycast``'s slab clip; the body is
 freed with costmap_2d's convex fill (``Costmap2D.set_convex_polygon_cost``'s kernel); how much of
 a cell a motion's footprint covers outside where the robot stands is exact polygon clipping.
 """
@@ -27,39 +28,91 @@ from numba import njit
 
 from navcore.costmap.costmap2d import _fill_convex_cells
 from navcore.costmap.footprint import _place, _square_meets_polygon, parse_footprint
-from navcore.costmap.obstacle_layer import raytrace_line
 from navcore.raycast import _clip_to_grid
 from navcore.types import LaserScan, Pose2D
 
 NEVER = -np.inf  # the stamp of a cell never observed
 
 
-@njit(cache=True, nogil=True)
-def stamp_scan(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y: float,
-               resolution: float, ox: float, oy: float, angles: np.ndarray, ranges: np.ndarray,
-               range_min: float, range_max: float, now: float) -> int:
-    """Stamp ``now`` on the cells each beam from the laser at (ox, oy) crosses (``free``) and on
-    the cell a beam ends in when it hit something inside the grid (``occupied``).
+@njit(cache=True, nogil=True, inline="always")
+def _walk(flat: np.ndarray, i: int, major_step: int, minor_step: int, major: int, minor: int,
+          value: float) -> None:
+    """``raytrace_line``'s walk on a flattened C-contiguous grid, from index ``i``: ``major``
+    cells along the dominant axis (``major_step`` apart), a ``minor_step`` whenever the error
+    term overflows, then the last cell."""
+    err = major // 2
+    for _ in range(major):
+        flat[np.uint64(i)] = value  # unsigned: no negative-index test per cell
+        i += major_step
+        err += minor
+        if err >= major:
+            i += minor_step
+            err -= major
+    flat[np.uint64(i)] = value
 
-    ``angles`` are world beam angles. A NaN reading or one below ``range_min`` is skipped; inf or
-    at least ``range_max`` means nothing within ``range_max``: the beam clears that far. Rays are
-    clipped to the grid. Returns the beams used (0 when the laser is off the grid)."""
-    h, w = free.shape
-    gx = (ox - origin_x) / resolution
-    gy = (oy - origin_y) / resolution
-    if not (0.0 <= gx < w and 0.0 <= gy < h):
-        return 0
+
+@njit(cache=True, nogil=True, inline="always")
+def _walk_two(flat: np.ndarray, i: int, a: np.ndarray, b: np.ndarray, value: float) -> None:
+    """The walks ``a`` and ``b`` (major step, minor step, major, minor) from index ``i``, in
+    lockstep while both last: two independent error chains keep the core busy."""
+    ia = ib = i
+    ea = a[2] // 2
+    eb = b[2] // 2
+    both = min(a[2], b[2])
+    for _ in range(both):
+        flat[np.uint64(ia)] = value
+        flat[np.uint64(ib)] = value
+        ia += a[0]
+        ib += b[0]
+        ea += a[3]
+        eb += b[3]
+        if ea >= a[2]:
+            ia += a[1]
+            ea -= a[2]
+        if eb >= b[2]:
+            ib += b[1]
+            eb -= b[2]
+    for _ in range(a[2] - both):
+        flat[np.uint64(ia)] = value
+        ia += a[0]
+        ea += a[3]
+        if ea >= a[2]:
+            ia += a[1]
+            ea -= a[2]
+    flat[np.uint64(ia)] = value
+    for _ in range(b[2] - both):
+        flat[np.uint64(ib)] = value
+        ib += b[0]
+        eb += b[3]
+        if eb >= b[2]:
+            ib += b[1]
+            eb -= b[2]
+    flat[np.uint64(ib)] = value
+
+
+@njit(cache=True, nogil=True)
+def _stamp(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int, gx: float,
+           gy: float, angles: np.ndarray, ranges: np.ndarray, range_min: float,
+           range_max: float, resolution: float, now: float) -> int:
+    """``stamp_scan`` on grids stored flat: the h x w grid starts at index ``start`` of ``free``
+    and ``occupied``; the laser at (gx, gy) cells lies on the grid.
+
+    Each beam is ``raytrace_line`` from the laser's cell to its end cell; as both lie on the
+    grid, the ray is shorter than its ``max_length`` (w + h) and every cell it visits is on the
+    grid, so the walk needs neither the length scale nor a bounds test. Every stamp is ``now``,
+    so the order the cells are written in does not matter: the beams are walked two at a time."""
     x0 = int(gx)
     y0 = int(gy)
-    n = 0
-    for i in range(angles.shape[0]):
-        r = ranges[i]
+    walks = np.empty((angles.shape[0], 4), dtype=np.int64)
+    m = 0
+    for k in range(angles.shape[0]):
+        r = float(ranges[k])
         if not r >= range_min:  # NaN too
             continue
         hit = r < range_max
         length = r if hit else range_max
-        dx = math.cos(angles[i])
-        dy = math.sin(angles[i])
+        dx = math.cos(angles[k])
+        dy = math.sin(angles[k])
         t_end = length / resolution
         t0, t1 = _clip_to_grid(gx, gy, dx, dy, w, h, t_end)
         if t0 > t1:
@@ -69,11 +122,70 @@ def stamp_scan(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y
         t = t_end + 1e-6 if inside else t1 - 1e-9
         x1 = min(max(int(math.floor(gx + t * dx)), 0), w - 1)
         y1 = min(max(int(math.floor(gy + t * dy)), 0), h - 1)
-        raytrace_line(free, x0, y0, x1, y1, w + h, now)
         if inside:
-            occupied[y1, x1] = now
-        n += 1
-    return n
+            occupied[start + y1 * w + x1] = now
+        adx = abs(x1 - x0)
+        ady = abs(y1 - y0)
+        sx = 1 if x1 > x0 else (-1 if x1 < x0 else 0)
+        sy = w if y1 > y0 else (-w if y1 < y0 else 0)
+        if adx >= ady:
+            walks[m, 0], walks[m, 1], walks[m, 2], walks[m, 3] = sx, sy, adx, ady
+        else:
+            walks[m, 0], walks[m, 1], walks[m, 2], walks[m, 3] = sy, sx, ady, adx
+        m += 1
+    i = start + y0 * w + x0
+    for k in range(0, m - 1, 2):
+        _walk_two(free, i, walks[k], walks[k + 1], now)
+    if m % 2 == 1:
+        _walk(free, i, walks[m - 1, 0], walks[m - 1, 1], walks[m - 1, 2], walks[m - 1, 3], now)
+    return m
+
+
+@njit(cache=True, nogil=True)
+def stamp_scan(free: np.ndarray, occupied: np.ndarray, origin_x: float, origin_y: float,
+               resolution: float, ox: float, oy: float, angles: np.ndarray, ranges: np.ndarray,
+               range_min: float, range_max: float, now: float) -> int:
+    """Stamp ``now`` on the cells each beam from the laser at (ox, oy) crosses (``free``) and on
+    the cell a beam ends in when it hit something inside the grid (``occupied``); both grids
+    C-contiguous.
+
+    ``angles`` are world beam angles. A NaN reading or one below ``range_min`` is skipped; inf or
+    at least ``range_max`` means nothing within ``range_max``: the beam clears that far. Rays are
+    clipped to the grid and walked as ``raytrace_line`` walks them (the obstacle layer's
+    clearing). Returns the beams used (0 when the laser is off the grid)."""
+    h, w = free.shape
+    gx = (ox - origin_x) / resolution
+    gy = (oy - origin_y) / resolution
+    if not (0.0 <= gx < w and 0.0 <= gy < h):
+        return 0
+    return _stamp(free.reshape(h * w), occupied.reshape(h * w), 0, w, h, gx, gy, angles, ranges,
+                  range_min, range_max, resolution, now)
+
+
+@njit(cache=True, nogil=True)
+def fan_angles(angle_min: float, increment: float, theta: float, n: int) -> np.ndarray:
+    """World angles of a scan's ``n`` beams from a laser heading ``theta``: the same floats as
+    ``scan.angles() + theta`` (the same two roundings per beam, in the same order)."""
+    out = np.empty(n)
+    for k in range(n):
+        out[k] = angle_min + increment * float(k) + theta
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _stamp_fan(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int,
+               origin_x: float, origin_y: float, resolution: float, ox: float, oy: float,
+               theta: float, angle_min: float, increment: float, ranges: np.ndarray,
+               range_min: float, range_max: float, now: float) -> int:
+    """``stamp_scan`` of a scan (its angle_min, angle_increment, ranges) from a laser at
+    (ox, oy, theta), on grids stored flat from ``start``."""
+    gx = (ox - origin_x) / resolution
+    gy = (oy - origin_y) / resolution
+    if not (0.0 <= gx < w and 0.0 <= gy < h):
+        return 0
+    angles = fan_angles(angle_min, increment, theta, ranges.shape[0])
+    return _stamp(free, occupied, start, w, h, gx, gy, angles, ranges, range_min, range_max,
+                  resolution, now)
 
 
 @njit(cache=True, nogil=True)
@@ -287,6 +399,69 @@ def first_unobserved(free: np.ndarray, occupied: np.ndarray, origin_x: float, or
     return -1, 0, 0
 
 
+@njit(cache=True, nogil=True)
+def _roll(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int, dx: int,
+          dy: int) -> int:
+    """Move the h x w window that starts at ``start`` in the stores ``free`` and ``occupied``
+    (each three windows long) by (dx, dy) cells: costmap2d.shift_grid of both grids, cell (r, c)
+    takes what was at (r + dy, c + dx), NEVER where that lies outside the window. Moving the
+    start by dy * w + dx moves every cell at once (no copy); only the cells that came into view
+    are set. Returns the new start."""
+    n = h * w
+    if dx == 0 and dy == 0:
+        return start
+    if abs(dx) >= w or abs(dy) >= h:  # nothing stays in view
+        free[n:2 * n] = NEVER
+        occupied[n:2 * n] = NEVER
+        return n
+    moved = start + dy * w + dx
+    if not 0 <= moved <= 2 * n:  # the store runs out: move the window to its middle first
+        free[n:2 * n] = free[start:start + n].copy()
+        occupied[n:2 * n] = occupied[start:start + n].copy()
+        moved = n + dy * w + dx
+    for store in (free, occupied):
+        grid = store[moved:moved + n].reshape((h, w))
+        # a cell whose source column lies outside the window reads the row next to it
+        if dx > 0:
+            grid[:, w - dx:] = NEVER
+        elif dx < 0:
+            grid[:, :-dx] = NEVER
+        if dy > 0:
+            grid[h - dy:, :] = NEVER
+        elif dy < 0:
+            grid[:-dy, :] = NEVER
+    return moved
+
+
+@njit(cache=True, nogil=True)
+def _observe(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int, dx: int,
+             dy: int, origin_x: float, origin_y: float, resolution: float, lx: float, ly: float,
+             ltheta: float, angle_min: float, increment: float, ranges: np.ndarray,
+             range_min: float, range_max: float, footprint: np.ndarray, x: float, y: float,
+             c: float, s: float, now: float) -> int:
+    """One cycle of ``ObservedSpace.update`` in one call (each Python-side step cost more than
+    its kernel): move the window by (dx, dy), stamp the scan (no beams: no scan), free the body
+    at (x, y) with cos/sin (c, s). Returns the window's new start."""
+    start = _roll(free, occupied, start, w, h, dx, dy)
+    _stamp_fan(free, occupied, start, w, h, origin_x, origin_y, resolution, lx, ly, ltheta,
+               angle_min, increment, ranges, range_min, range_max, now)
+    n = h * w
+    free_body(free[start:start + n].reshape((h, w)), occupied[start:start + n].reshape((h, w)),
+              footprint, x, y, c, s, origin_x, origin_y, resolution, now)
+    return start
+
+
+_NO_RANGES = np.empty(0, dtype=np.float32)  # no scan this cycle: no beam to stamp
+
+
+def _ranges(scan: LaserScan) -> np.ndarray:
+    """The scan's ranges as an array (a LaserScan's are float32 already: read as they are)."""
+    r = scan.ranges
+    if isinstance(r, np.ndarray) and r.dtype == np.float32:
+        return r
+    return np.asarray(r, dtype=np.float64)
+
+
 def _convex_ccw(fp: np.ndarray) -> tuple[np.ndarray, bool]:
     """The footprint counter-clockwise, and whether it is convex."""
     x, y = fp[:, 0], fp[:, 1]
@@ -323,6 +498,8 @@ class ObservedSpace:
         self._stores = (np.full(3 * n, NEVER), np.full(3 * n, NEVER))
         self._start = n
         self._show()
+        self._half_width = self._shape[1] * self.resolution / 2.0
+        self._half_height = self._shape[0] * self.resolution / 2.0
         self.origin_x = 0.0
         self.origin_y = 0.0
         self._placed = False
@@ -348,58 +525,43 @@ class ObservedSpace:
     def size_y(self) -> int:
         return int(self.free.shape[0])
 
-    def recentre(self, x: float, y: float) -> None:
-        """Move the window so (x, y) is near its centre, on the world lattice (whole cells, as
-        costmap_2d's rolling window): what it holds keeps its world position."""
+    def _follow(self, x: float, y: float) -> tuple[int, int]:
+        """Place the window so (x, y) is near its centre, on the world lattice (whole cells, as
+        costmap_2d's rolling window): sets the origin and returns the move (dx, dy) in cells
+        that the stores must follow."""
         res = self.resolution
-        nx = math.floor((x - self.size_x * res / 2.0) / res)
-        ny = math.floor((y - self.size_y * res / 2.0) / res)
+        nx = math.floor((x - self._half_width) / res)
+        ny = math.floor((y - self._half_height) / res)
         if not self._placed:
             self.origin_x, self.origin_y, self._placed = nx * res, ny * res, True
-            return
+            return 0, 0
         dx = nx - int(round(self.origin_x / res))
         dy = ny - int(round(self.origin_y / res))
-        if dx == 0 and dy == 0:
-            return
-        self._shift(dx, dy)
-        self.origin_x, self.origin_y = nx * res, ny * res
+        if dx != 0 or dy != 0:
+            self.origin_x, self.origin_y = nx * res, ny * res
+        return dx, dy
 
-    def _shift(self, dx: int, dy: int) -> None:
-        """costmap2d.shift_grid of both grids: cell (r, c) takes what was at (r + dy, c + dx),
-        NEVER where that lies outside the window."""
-        h, w = self._shape
-        n = h * w
-        if abs(dx) >= w or abs(dy) >= h:  # nothing stays in view
-            self._start = n
+    def _moved_to(self, start: int) -> None:
+        if start != self._start:
+            self._start = start
             self._show()
-            self.free[...] = NEVER
-            self.occupied[...] = NEVER
-            return
-        start = self._start + dy * w + dx
-        if not 0 <= start <= 2 * n:  # the store runs out: move the window to its middle first
-            for store in self._stores:
-                store[n:2 * n] = store[self._start:self._start + n].copy()
-            start = n + dy * w + dx
-        self._start = start
-        self._show()
-        for grid in (self.free, self.occupied):
-            # a cell whose source column lies outside the window reads the row next to it
-            if dx > 0:
-                grid[:, w - dx:] = NEVER
-            elif dx < 0:
-                grid[:, :-dx] = NEVER
-            if dy > 0:
-                grid[h - dy:, :] = NEVER
-            elif dy < 0:
-                grid[:-dy, :] = NEVER
+
+    def recentre(self, x: float, y: float) -> None:
+        """Move the window so (x, y) is near its centre: what it holds keeps its world
+        position."""
+        dx, dy = self._follow(x, y)
+        if dx != 0 or dy != 0:
+            h, w = self._shape
+            self._moved_to(_roll(self._stores[0], self._stores[1], self._start, w, h, dx, dy))
 
     def add_scan(self, scan: LaserScan, laser_pose: Pose2D, now: float) -> int:
         """Stamp what one scan saw from ``laser_pose`` (in the same frame as the window)."""
-        angles = scan.angles() + laser_pose.theta
-        ranges = np.asarray(scan.ranges, dtype=np.float64)
-        return stamp_scan(self.free, self.occupied, self.origin_x, self.origin_y, self.resolution,
-                          laser_pose.x, laser_pose.y, angles, ranges, float(scan.range_min),
-                          float(scan.range_max), float(now))
+        h, w = self._shape
+        return _stamp_fan(self._stores[0], self._stores[1], self._start, w, h, self.origin_x,
+                          self.origin_y, self.resolution, laser_pose.x, laser_pose.y,
+                          laser_pose.theta, float(scan.angle_min), float(scan.angle_increment),
+                          _ranges(scan), float(scan.range_min), float(scan.range_max),
+                          float(now))
 
     def add_body(self, pose: Pose2D, now: float) -> bool:
         """Free the cells under the clearing footprint at ``pose`` (costmap_2d's footprint
@@ -411,11 +573,25 @@ class ObservedSpace:
 
     def update(self, pose: Pose2D, scan: LaserScan | None, laser_pose: Pose2D | None,
                now: float) -> None:
-        """One cycle: follow the robot, stamp a new scan (if any), then free its body."""
-        self.recentre(pose.x, pose.y)
-        if scan is not None and laser_pose is not None:
-            self.add_scan(scan, laser_pose, now)
-        self.add_body(pose, now)  # after the scan, as costmap_2d clears the footprint last
+        """One cycle: follow the robot, stamp a new scan (if any), then free its body (after
+        the scan, as costmap_2d clears the footprint last). The same stamps as ``recentre``,
+        ``add_scan`` and ``add_body`` in turn, in one kernel call."""
+        c, s = math.cos(pose.theta), math.sin(pose.theta)  # first: an infinite heading raises
+        dx, dy = self._follow(pose.x, pose.y)  # before anything moved
+        h, w = self._shape
+        if scan is None or laser_pose is None:
+            start = _observe(self._stores[0], self._stores[1], self._start, w, h, dx, dy,
+                             self.origin_x, self.origin_y, self.resolution, 0.0, 0.0, 0.0, 0.0,
+                             0.0, _NO_RANGES, 0.0, 0.0, self.clearing_footprint, pose.x, pose.y,
+                             c, s, float(now))
+        else:
+            start = _observe(self._stores[0], self._stores[1], self._start, w, h, dx, dy,
+                             self.origin_x, self.origin_y, self.resolution, laser_pose.x,
+                             laser_pose.y, laser_pose.theta, float(scan.angle_min),
+                             float(scan.angle_increment), _ranges(scan),
+                             float(scan.range_min), float(scan.range_max),
+                             self.clearing_footprint, pose.x, pose.y, c, s, float(now))
+        self._moved_to(start)
 
     def free_since(self, since: float) -> np.ndarray:
         """Boolean grid [my, mx]: observed free at or after ``since``."""
