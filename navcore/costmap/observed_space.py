@@ -40,8 +40,8 @@ def _walk_on(flat: np.ndarray, i: int, e: int, steps: int, major_step: int, mino
     """``raytrace_line``'s walk on a flattened C-contiguous grid: ``steps`` more cells from
     index ``i``, ``major_step`` apart plus ``minor_step`` whenever the error term overflows,
     then the last cell. ``e`` is raytrace_line's error term less ``major``, so it overflows
-    when it turns non-negative: the sign bit makes the step without a branch (that branch went
-    either way by the line's slope and was mispredicted often: ~8 us of a demo cycle)."""
+    when it turns non-negative: the sign bit makes the step without a branch (a branch that
+    goes either way by the line's slope is often mispredicted; docs/performance.md)."""
     for _ in range(steps):
         flat[np.uint64(i)] = value  # unsigned: no negative-index test per cell
         i += major_step
