@@ -53,17 +53,10 @@ def _walk_on(flat: np.ndarray, i: int, e: int, steps: int, major_step: int, mino
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _walk(flat: np.ndarray, i: int, major_step: int, minor_step: int, major: int, minor: int,
-          value: float) -> None:
-    """The whole walk from index ``i``: ``major`` steps, the error term starting at
-    ``major // 2`` (raytrace_line's)."""
-    _walk_on(flat, i, major // 2 - major, major, major_step, minor_step, major, minor, value)
-
-
-@njit(cache=True, nogil=True, inline="always")
 def _walk_two(flat: np.ndarray, i: int, a: np.ndarray, b: np.ndarray, value: float) -> None:
-    """The walks ``a`` and ``b`` (major step, minor step, major, minor) from index ``i``, in
-    lockstep while both last (``_walk``'s steps): two independent chains keep the core busy."""
+    """``raytrace_line``'s walks ``a`` and ``b`` (major step, minor step, major, minor) from
+    index ``i``, each error term starting at ``major // 2`` (less ``major``, as ``_walk_on``
+    counts it), in lockstep while both last: two independent chains keep the core busy."""
     ia = ib = i
     ea = a[2] // 2 - a[2]
     eb = b[2] // 2 - b[2]
@@ -136,10 +129,8 @@ def _stamp(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int, g
             walks[m, 0], walks[m, 1], walks[m, 2], walks[m, 3] = sy, sx, ady, adx
         m += 1
     i = start + y0 * w + x0
-    for k in range(0, m - 1, 2):
-        _walk_two(free, i, walks[k], walks[k + 1], now)
-    if m % 2 == 1:
-        _walk(free, i, walks[m - 1, 0], walks[m - 1, 1], walks[m - 1, 2], walks[m - 1, 3], now)
+    for k in range(0, m, 2):  # an odd last beam goes with itself (the same cells twice)
+        _walk_two(free, i, walks[k], walks[min(k + 1, m - 1)], now)
     return m
 
 
@@ -172,22 +163,6 @@ def fan_angles(angle_min: float, increment: float, theta: float, n: int) -> np.n
     for k in range(n):
         out[k] = angle_min + increment * float(k) + theta
     return out
-
-
-@njit(cache=True, nogil=True)
-def _stamp_fan(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int,
-               origin_x: float, origin_y: float, resolution: float, ox: float, oy: float,
-               theta: float, angle_min: float, increment: float, ranges: np.ndarray,
-               range_min: float, range_max: float, now: float) -> int:
-    """``stamp_scan`` of a scan (its angle_min, angle_increment, ranges) from a laser at
-    (ox, oy, theta), on grids stored flat from ``start``."""
-    gx = (ox - origin_x) / resolution
-    gy = (oy - origin_y) / resolution
-    if not (0.0 <= gx < w and 0.0 <= gy < h):
-        return 0
-    angles = fan_angles(angle_min, increment, theta, ranges.shape[0])
-    return _stamp(free, occupied, start, w, h, gx, gy, angles, ranges, range_min, range_max,
-                  resolution, now)
 
 
 @njit(cache=True, nogil=True)
@@ -408,30 +383,37 @@ def _roll(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int, dx
     (each three windows long) by (dx, dy) cells: costmap2d.shift_grid of both grids, cell (r, c)
     takes what was at (r + dy, c + dx), NEVER where that lies outside the window. Moving the
     start by dy * w + dx moves every cell at once (no copy); only the cells that came into view
-    are set. Returns the new start."""
+    are set. Returns the new start. (Plain loops: numpy slice assignments here took seconds to
+    compile on a cold start.)"""
     n = h * w
     if dx == 0 and dy == 0:
         return start
     if abs(dx) >= w or abs(dy) >= h:  # nothing stays in view
-        free[n:2 * n] = NEVER
-        occupied[n:2 * n] = NEVER
+        for k in range(n, 2 * n):
+            free[k] = NEVER
+            occupied[k] = NEVER
         return n
     moved = start + dy * w + dx
     if not 0 <= moved <= 2 * n:  # the store runs out: move the window to its middle first
-        free[n:2 * n] = free[start:start + n].copy()
-        occupied[n:2 * n] = occupied[start:start + n].copy()
+        # (overlapping ranges: copy from the end when moving up, from the start when down)
+        order = range(n - 1, -1, -1) if start < n else range(n)
+        for k in order:
+            free[n + k] = free[start + k]
+            occupied[n + k] = occupied[start + k]
         moved = n + dy * w + dx
-    for store in (free, occupied):
-        grid = store[moved:moved + n].reshape((h, w))
-        # a cell whose source column lies outside the window reads the row next to it
-        if dx > 0:
-            grid[:, w - dx:] = NEVER
-        elif dx < 0:
-            grid[:, :-dx] = NEVER
-        if dy > 0:
-            grid[h - dy:, :] = NEVER
-        elif dy < 0:
-            grid[:-dy, :] = NEVER
+    # the cells that came into view: the columns (a cell whose source column lies outside the
+    # window reads the row next to it), then the rows
+    c0 = w - dx if dx > 0 else 0
+    r0 = h - dy if dy > 0 else 0
+    for r in range(h):
+        row = moved + r * w
+        if r0 <= r < r0 + abs(dy):
+            first, last = row, row + w
+        else:
+            first, last = row + c0, row + c0 + abs(dx)
+        for k in range(first, last):
+            free[k] = NEVER
+            occupied[k] = NEVER
     return moved
 
 
@@ -445,8 +427,12 @@ def _observe(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int,
     its kernel): move the window by (dx, dy), stamp the scan (no beams: no scan), free the body
     at (x, y) with cos/sin (c, s). Returns the window's new start."""
     start = _roll(free, occupied, start, w, h, dx, dy)
-    _stamp_fan(free, occupied, start, w, h, origin_x, origin_y, resolution, lx, ly, ltheta,
-               angle_min, increment, ranges, range_min, range_max, now)
+    gx = (lx - origin_x) / resolution
+    gy = (ly - origin_y) / resolution
+    if 0.0 <= gx < w and 0.0 <= gy < h:  # else the laser is off the window: no beam stamped
+        _stamp(free, occupied, start, w, h, gx, gy,
+               fan_angles(angle_min, increment, ltheta, ranges.shape[0]), ranges, range_min,
+               range_max, resolution, now)
     n = h * w
     free_body(free[start:start + n].reshape((h, w)), occupied[start:start + n].reshape((h, w)),
               footprint, x, y, c, s, origin_x, origin_y, resolution, now)
@@ -558,12 +544,12 @@ class ObservedSpace:
 
     def add_scan(self, scan: LaserScan, laser_pose: Pose2D, now: float) -> int:
         """Stamp what one scan saw from ``laser_pose`` (in the same frame as the window)."""
-        h, w = self._shape
-        return _stamp_fan(self._stores[0], self._stores[1], self._start, w, h, self.origin_x,
-                          self.origin_y, self.resolution, laser_pose.x, laser_pose.y,
-                          laser_pose.theta, float(scan.angle_min), float(scan.angle_increment),
-                          _ranges(scan), float(scan.range_min), float(scan.range_max),
-                          float(now))
+        ranges = _ranges(scan)
+        angles = fan_angles(float(scan.angle_min), float(scan.angle_increment),
+                            laser_pose.theta, ranges.shape[0])
+        return stamp_scan(self.free, self.occupied, self.origin_x, self.origin_y,
+                          self.resolution, laser_pose.x, laser_pose.y, angles, ranges,
+                          float(scan.range_min), float(scan.range_max), float(now))
 
     def add_body(self, pose: Pose2D, now: float) -> bool:
         """Free the cells under the clearing footprint at ``pose`` (costmap_2d's footprint
