@@ -140,6 +140,39 @@ def test_is_detour_long_fires_once_per_goal_on_a_detour_and_never_on_the_direct_
     assert tick(lenient) == F                              # not 20 times longer
 
 
+def test_is_detour_long_judges_as_is_detour_on_the_map_only_length_and_plans_only_when_it_can():
+    """Its verdict is is_detour(plan length, map-only length) on every plan; a plan shorter than
+    ``min_extra`` is no detour whatever the map-only route, and gets no map-only plan."""
+    rng = np.random.default_rng(3)
+    planned = 0
+    for blocked in (False, True):
+        cm = costmap()
+        if blocked:
+            block_doorway(cm)
+        for _ in range(12):
+            start = Pose2D(float(rng.uniform(1.0, 3.8)), float(rng.uniform(0.5, 5.5)), 0.0)
+            goal = Pose2D(float(rng.uniform(1.0, 7.5)), float(rng.uniform(0.5, 1.0)), 0.0)
+            env = Env(cm, start)
+            path = env.planner.make_plan(start, goal).path
+            if path is None or len(path) < 2:
+                continue
+            route = MapOnlyRoute(cm, env.planner)
+            map_length = route.length(Pose2D(*path.poses[0]), goal)
+            for ratio, min_extra in ((1.2, 0.5), (2.0, 2.0), (1.5, 5.0)):
+                node = env.node("IsDetourLong", ratio=ratio, min_extra=min_extra, max_per_goal=0)
+                calls = []
+                plan = node.route.plan
+                node.route.plan = lambda a, b: calls.append(1) or plan(a, b)
+                env.put("goal", goal)
+                env.put("path", path)
+                want = map_length is not None and is_detour(path.length(), map_length, ratio,
+                                                            min_extra)
+                assert tick(node) == (S if want else F)
+                assert len(calls) == (0 if path.length() < min_extra else 1)
+                planned += len(calls)
+    assert 0 < planned < 72                          # some plans skipped, some made
+
+
 def test_is_goal_reachable_on_map_fails_for_a_closed_room_only():
     room = WALL.replace("#......................................#", "#...................#..................#")
     cm = costmap(room)

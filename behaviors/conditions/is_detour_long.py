@@ -67,13 +67,18 @@ class IsDetourLong(Condition):
             return FAILURE           # spent for this goal: no map-only plan for each replan
         if path is not self._path:   # judge each plan once
             self._path = path
-            x, y, th = (float(v) for v in path.poses[0])
             length = path.length()
+            min_extra = self.get_input("min_extra")
+            if length < min_extra:   # no route (length >= 0) leaves it min_extra longer
+                self._verdict = False
+                self.say(f"plan {length:.2f} m: shorter than min_extra, no detour")
+                return FAILURE
+            x, y, th = (float(v) for v in path.poses[0])
             route = self.route.plan(Pose2D(x, y, th), goal)
             map_length = route.path.length() if route.ok and route.path is not None \
                 and len(route.path) > 0 else None
             self._verdict = map_length is not None and is_detour(
-                length, map_length, self.get_input("ratio"), self.get_input("min_extra"))
+                length, map_length, self.get_input("ratio"), min_extra)
             self.say(f"plan {length:.2f} m, map-only "
                      f"{'none' if map_length is None else f'{map_length:.2f} m'}")
             age = self.get_input("age")
