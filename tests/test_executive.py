@@ -219,6 +219,27 @@ def test_exception_in_a_navbt_leaf_ends_the_mission_with_its_traceback(where):
         plain.tick_once()
 
 
+def test_exception_in_a_control_nodes_own_tick_names_the_node_and_tick():
+    # a control node's tick code (not a lifecycle method of a leaf) raising: the executive ticks
+    # through tick_once, but the record says "tick", the one name py_trees knows for it
+    from executive.tree_loader import LeanBehaviourTree
+
+    class Brittle(py_trees.composites.Sequence):
+        def tick(self):
+            raise KeyError("no child")
+            yield self
+
+    ns = "/brittle"
+    root = Brittle(name="brittle", memory=False, children=[DriveToGoal("drive")])
+    # unrecorded: no visitor, so the tree ticks through tick_once (a recorded one through tick)
+    ex = Executive(LeanBehaviourTree(root), wall_ahead_robot(Pose2D()), SimClock(), 0.1,
+                   namespace=ns)
+    result = ex.run([Pose2D(1.0, 0.0)], time_limit=5.0)
+    assert result.outcome == "failed" and result.ticks == 1
+    assert result.reason == "INTERNAL_ERROR in 'brittle' (tick): KeyError: 'no child'"
+    ex.shutdown()
+
+
 def test_only_failing_tree_stops_robot_with_reason():
     ex, io_, _ = make(Boom("boom"))
     result = ex.run([Pose2D(1.0, 0.0)], time_limit=5.0)
