@@ -124,27 +124,6 @@ def test_remaining_length_matches_numpy_argmin_on_random_paths():
     assert remaining_length(line, Pose2D(1.2, 0.5, 0.0)) == np.hypot(0.2, 0.5) + 2.0
 
 
-def test_remaining_length_for_callers_keeping_to_go_answers_as_computed_afresh():
-    """Callers that keep ``to_go`` (IsDithering, IsGoalNearby: two per tick on one plan) get
-    the last answer again for the same poses and pose: interleaved over plans, poses, NaN and
-    -0.0, every answer equals the kernel's, bit for bit."""
-    rng = np.random.default_rng(9)
-    paths = [Path(rng.normal(0.0, 3.0, (int(rng.integers(2, 30)), 3))) for _ in range(3)]
-    paths.append(Path(paths[0].poses.copy()))   # equal poses, another array
-    to_gos = [length_to_go(p.poses) for p in paths]
-    spots = [Pose2D(*rng.normal(0.0, 3.0, 3)) for _ in range(4)]
-    spots += [Pose2D(float("nan"), 0.0), Pose2D(-0.0, 0.0), Pose2D(0.0, -0.0), Pose2D(1.0, 2.0),
-              Pose2D(1.0, -1.0), Pose2D(-1.0, 2.0)]
-    for _ in range(600):
-        i, pose = int(rng.integers(0, len(paths))), spots[int(rng.integers(0, len(spots)))]
-        keep = bool(rng.integers(0, 4))
-        got = remaining_length(paths[i], pose, to_gos[i] if keep else None)
-        d = np.hypot(paths[i].poses[:, 0] - pose.x, paths[i].poses[:, 1] - pose.y)
-        j = int(np.argmin(d))
-        want = float(d[j] + to_gos[i][j])
-        assert got == want or (np.isnan(got) and np.isnan(want))
-
-
 def test_length_to_go_matches_the_reversed_cumulative_sum():
     rng = np.random.default_rng(8)
     for k in range(300):

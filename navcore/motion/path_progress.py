@@ -33,28 +33,14 @@ def _length_to_go(poses: np.ndarray) -> np.ndarray:
     return out
 
 
-# The last answer given to a caller that keeps ``to_go``: poses, x, y, length. Such callers
-# (IsDithering, IsGoalNearby) hold a plan unchanged while they use it, and in a tree both ask
-# for the same plan and pose in one tick; the poses are compared by identity, held here.
-_last: list = [None, 0.0, 0.0, 0.0]
-
-
 def remaining_length(path: Path, pose: Pose2D, to_go: np.ndarray | None = None) -> float:
-    """Length of ``path`` from the pose closest to ``pose`` to its end, m. ``to_go`` is
-    ``length_to_go(path.poses)`` when the caller keeps it: the caller then promises not to
-    change the poses in place, and the answer for the same poses and pose as the last such
-    call is that call's."""
+    """Length of ``path`` from the pose closest to ``pose`` to its end, m (``to_go`` is
+    ``length_to_go(path.poses)`` when the caller keeps it)."""
     if len(path) == 0:
         return 0.0
-    poses, x, y = path.poses, float(pose.x), float(pose.y)
     if to_go is None:
-        return float(_closest_remaining(poses, x, y, length_to_go(poses)))
-    last = _last
-    if last[0] is poses and last[1] == x and last[2] == y:  # (NaN never equals: computed)
-        return last[3]
-    left = float(_closest_remaining(poses, x, y, to_go))
-    last[0], last[1], last[2], last[3] = poses, x, y, left
-    return left
+        to_go = length_to_go(path.poses)
+    return float(_closest_remaining(path.poses, float(pose.x), float(pose.y), to_go))
 
 
 @njit(cache=True)
