@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import copy
 import math
-from collections import deque
 from dataclasses import dataclass
 from typing import Any, ClassVar, Iterable, Iterator
 
@@ -88,15 +87,6 @@ class ComponentError(BehaviorError, RuntimeError):
     """A node's ``setup`` did not receive a component it needs; the message names both."""
 
 
-# Runs a tick generator to its end without looking at what it yields (in C, keeping nothing).
-_drain = deque(maxlen=0).extend
-
-
-def _drain_tick(self: py_trees.behaviour.Behaviour) -> None:
-    """py_trees' ``Behaviour.tick_once``: ``tick()`` run to its end."""
-    _drain(self.tick())
-
-
 # What ``tick`` is: a generator of the nodes ticked, each as it finishes (py_trees' protocol).
 Ticking = Iterator[py_trees.behaviour.Behaviour]
 
@@ -123,26 +113,6 @@ class NavNode(PortsMixin):
     # True for a node whose semantics changed between Nav2 distributions: the tree builder then
     # passes the tree's ``nav2_distro`` (None: navbt's own) to its constructor.
     USES_NAV2_DISTRO: ClassVar[bool] = False
-
-    def __init_subclass__(cls, **kwargs: Any) -> None:
-        super().__init_subclass__(**kwargs)
-        # ``tick_once`` (py_trees: ``tick()`` run to its end) is the tick without generators
-        # where a class defines both: the executive's tree ticks through it. A class whose
-        # ``tick`` is more derived than its ``tick_once`` (a subclass or mixin such as Recovery
-        # that changed ``tick`` only) gets py_trees' drain of ``tick()`` back; one that changed
-        # ``tick_once`` only would tick differently through py_trees' API, so it is refused.
-        if cls.__dict__.get("tick_once") is None and cls.tick_once is _drain_tick:
-            return  # (inherits the drain: right whatever tick does)
-        mro = cls.__mro__
-        tick_at = next((i for i, k in enumerate(mro) if "tick" in k.__dict__), None)
-        once_at = next((i for i, k in enumerate(mro) if "tick_once" in k.__dict__), None)
-        if tick_at is None or once_at is None:  # (a mixin that is no behaviour yet)
-            return
-        if tick_at < once_at:
-            cls.tick_once = _drain_tick  # type: ignore[method-assign]
-        elif once_at < tick_at:
-            raise TypeError(f"{cls.__name__} defines tick_once but not tick: define both, "
-                            f"doing the same (docs/trees.md, 'How a tick works')")
 
     def __init__(self, name: str = "", **kwargs: Any) -> None:
         cls = type(self)
@@ -337,17 +307,11 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
 
     ``tick`` is py_trees' ``Behaviour.tick`` (initialise when not RUNNING, update, stop on a
     final status, yield self) without its per-tick debug formatting, which dominated the tick
-    cost; ``tick_once`` is the same without the generator. An exception raised by ``initialise``
-    or ``update`` leaves the tick: a bug is not a navigation failure (the executive ends the
-    mission with INTERNAL_ERROR).
+    cost. An exception raised by ``initialise`` or ``update`` leaves the tick: a bug is not a
+    navigation failure (the executive ends the mission with INTERNAL_ERROR).
     """
 
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
-        Leaf.tick_once(self)  # (not self.tick_once: a subclass's drain of tick() would recurse)
-        yield self
-
-    def tick_once(self) -> None:
-        """``tick`` without the generator (a leaf yields only itself, when it is done)."""
         if self.status is not RUNNING:
             self.initialise()
         new_status = self.update()
@@ -357,6 +321,7 @@ class Leaf(NavNode, py_trees.behaviour.Behaviour):
         if new_status is not RUNNING:
             self.terminate(new_status)  # what stop() does, less a call
         self.status = new_status
+        yield self
 
     def stop(self, new_status: Status = INVALID) -> None:
         self.terminate(new_status)
@@ -399,11 +364,6 @@ class Control(ParentTick, NavNode, py_trees.composites.Composite):
     ``stop(INVALID)`` (a halt) stops every child. (One generator per node and tick: each
     yield passes through every ancestor's generator, so a second one per node would cost.)
 
-    A subclass may also define ``tick_once``: the same tick without generators (children ticked
-    with ``child.tick_once()``, ``self.finish(status)`` not yielded), which the executive's
-    tree uses when no visitor watches; tests/test_tick_once.py ticks random trees both ways.
-    Without one, ``tick_once`` drains ``tick()`` (py_trees).
-
     ``MIN_CHILDREN``/``MAX_CHILDREN`` are checked by the loader (STYLE 2.5) and at construction.
     """
 
@@ -443,9 +403,8 @@ class Control(ParentTick, NavNode, py_trees.composites.Composite):
 
 class DecoratorNode(ParentTick, NavNode, py_trees.decorators.Decorator):
     """Base of decorators that decide *whether* and *how* to tick their child (``tick``,
-    with ``begin_tick`` and ``finish`` as in ``Control``, and optionally ``tick_once``): a new
-    run stops the child if it is not INVALID; a final status stops a RUNNING child; a halt stops
-    the child."""
+    with ``begin_tick`` and ``finish`` as in ``Control``): a new run stops the child if it is not
+    INVALID; a final status stops a RUNNING child; a halt stops the child."""
 
     CATEGORY = "Decorator"
 

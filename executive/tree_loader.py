@@ -144,7 +144,7 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
         if (pre_tick_handler is None and post_tick_handler is None and not self.visitors
                 and not self.pre_tick_handlers and not self.post_tick_handlers):  # the usual
-            self.root.tick_once()
+            _drain(self.root.tick())
             self.count += 1
             return
         if pre_tick_handler is not None:

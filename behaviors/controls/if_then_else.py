@@ -41,24 +41,3 @@ class IfThenElse(Control):
         self.current_child = branch
         yield from branch.tick()
         yield self.finish(branch.status)
-
-    def tick_once(self) -> None:
-        if self.begin_tick():
-            self._branch = 0
-        if self._branch == 0:
-            cond = self.children[0]
-            cond.tick_once()
-            if cond.status is RUNNING:
-                self.finish(RUNNING)
-                return
-            if cond.status is SUCCESS:
-                self._branch = 1
-            elif len(self.children) == 3:
-                self._branch = 2
-            else:
-                self.finish(FAILURE)
-                return
-        branch = self.children[self._branch]
-        self.current_child = branch
-        branch.tick_once()
-        self.finish(branch.status)

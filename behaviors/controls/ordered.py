@@ -44,27 +44,6 @@ class InOrder(Control):
         self._index = 0
         yield self.finish(self.ALL_DONE)
 
-    def tick_once(self) -> None:
-        self.begin_tick()
-        if not self.MEMORY and self.status is not RUNNING:
-            self._index = 0
-        children = self.children
-        while self._index < len(children):
-            child = children[self._index]
-            self.current_child = child
-            child.tick_once()
-            if child.status is RUNNING:
-                self.finish(RUNNING)
-                return
-            if child.status is self.STOP_ON:
-                if not self.MEMORY:
-                    self._index = 0
-                self.finish(self.STOP_ON)
-                return
-            self._index += 1
-        self._index = 0
-        self.finish(self.ALL_DONE)
-
 
 class Reactive(Control):
     """Every child from the first on each tick (shared by ReactiveSequence and ReactiveFallback).
@@ -90,17 +69,3 @@ class Reactive(Control):
                 yield self.finish(self.STOP_ON)
                 return
         yield self.finish(self.ALL_DONE)
-
-    def tick_once(self) -> None:
-        self.begin_tick()
-        for i, child in enumerate(self.children):
-            self.current_child = child
-            child.tick_once()
-            if child.status is RUNNING:
-                self.halt_children(i + 1)
-                self.finish(RUNNING)
-                return
-            if child.status is self.STOP_ON:
-                self.finish(self.STOP_ON)
-                return
-        self.finish(self.ALL_DONE)

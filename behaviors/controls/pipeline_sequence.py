@@ -35,20 +35,3 @@ class PipelineSequence(Control):
                 return
         self._last = 0
         yield self.finish(SUCCESS)
-
-    def tick_once(self) -> None:
-        if self.begin_tick():
-            self._last = 0
-        for i, child in enumerate(self.children):
-            self.current_child = child
-            child.tick_once()
-            if child.status is FAILURE:
-                self._last = 0
-                self.finish(FAILURE)
-                return
-            if child.status is RUNNING and i >= self._last:
-                self._last = i
-                self.finish(RUNNING)
-                return
-        self._last = 0
-        self.finish(SUCCESS)

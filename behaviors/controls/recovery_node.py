@@ -105,44 +105,5 @@ class RecoveryNode(Control):
                 self.say(f"recovery {self._retries} of {limit} done, retrying")
                 self._index = 0
 
-    def tick_once(self) -> None:
-        if self.begin_tick():
-            self._retries, self._index = 0, 0
-        limit = self.get_input("number_of_retries")
-        main, recovery = self.children
-        while True:
-            if self._index == 0:
-                self.current_child = main
-                main.tick_once()
-                if main.status is RUNNING:
-                    if self._retries:
-                        self._maybe_reset(recovery)
-                    self.finish(RUNNING)
-                    return
-                if main.status is SUCCESS:
-                    self.finish(SUCCESS)
-                    return
-                if self._retries >= limit:
-                    self.say(f"main child failed after {self._retries} recoveries")
-                    self.finish(FAILURE)
-                    return
-                main.stop(INVALID)
-                self._index = 1
-            else:
-                self.current_child = recovery
-                recovery.tick_once()
-                if recovery.status is RUNNING:
-                    self.finish(RUNNING)
-                    return
-                if recovery.status is FAILURE:
-                    self.say(f"recovery {self._retries + 1} failed")
-                    self.finish(FAILURE)
-                    return
-                recovery.stop(INVALID)
-                self._retries += 1
-                self._since = self._clock.now() if self._clock is not None else 0.0
-                self.say(f"recovery {self._retries} of {limit} done, retrying")
-                self._index = 0
-
     def terminate(self, new_status: Status) -> None:
         self._retries, self._index = 0, 0

@@ -70,19 +70,6 @@ class SetParameters(DecoratorNode):
         yield from self.decorated.tick()
         yield self.finish(self.decorated.status)
 
-    def tick_once(self) -> None:
-        if self.begin_tick():
-            self._put_back()
-            problem = self._apply()
-            if problem:
-                self.write("error_msg", problem)
-                self.say(problem)
-                if self.get_input("required"):
-                    self.finish(FAILURE)
-                    return
-        self.decorated.tick_once()
-        self.finish(self.decorated.status)
-
     def _put_back(self) -> None:
         if self._restore is not None:
             target, previous = self._restore

@@ -20,11 +20,6 @@ class Passthrough(DecoratorNode):
         yield from self.decorated.tick()
         yield self.finish(self.convert(self.decorated.status))
 
-    def tick_once(self) -> None:
-        self.begin_tick()
-        self.decorated.tick_once()
-        self.finish(self.convert(self.decorated.status))
-
 
 class Inverter(Passthrough):
     """SUCCESS <-> FAILURE of the child; RUNNING passes through."""

@@ -50,21 +50,3 @@ class Throttle(DecoratorNode):
             return
         yield self.finish(self.throttled())
 
-
-    def tick_once(self) -> None:
-        self.begin_tick()
-        if self.status is INVALID:
-            self._last_status = INVALID
-            self.start_run()
-        due = self.due()
-        child = self.decorated
-        if self._last_status is INVALID or child.status is RUNNING or due:
-            if due and self.RESTART_WHEN_DUE and child.status is RUNNING:
-                self.halt_children()
-            child.tick_once()
-            self._last_status = child.status
-            if self._last_status is SUCCESS:
-                self.child_succeeded()
-            self.finish(self._last_status)
-            return
-        self.finish(self.throttled())
