@@ -111,8 +111,6 @@ def failing_node(e: BaseException) -> tuple[py_trees.behaviour.Behaviour | None,
         owner = tb.tb_frame.f_locals.get("self")
         if isinstance(owner, py_trees.behaviour.Behaviour):
             name = tb.tb_frame.f_code.co_name
-            if name == "tick_once":  # py_trees: tick() run to its end, one tick by any name
-                name = "tick"
             if owner is not node:
                 node, where = owner, name
             elif where not in _LIFECYCLE and name in _LIFECYCLE:  # py_trees' tick -> update

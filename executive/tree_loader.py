@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -132,13 +133,17 @@ class LoadedTree:
         return to_xml(self)
 
 
+# Runs a tick generator to its end without looking at what it yields (in C, keeping nothing).
+_drain = deque(maxlen=0).extend
+
+
 class LeanBehaviourTree(py_trees.trees.BehaviourTree):
     """py_trees' tree manager without its second whole-tree walk when no visitor needs it.
 
     ``BehaviourTree.tick`` iterates every node after the tick for "full" visitors even when
     there are none; at 20 Hz that walk is a large part of the tick overhead. Without visitors
-    the root ticks through ``tick_once`` (no generators; docs/trees.md); visitors see each node
-    as it finishes its tick, with the status it has then, as in py_trees.
+    the root's tick generator is drained in C (``deque(maxlen=0)``); visitors see each node as
+    it finishes its tick, with the status it has then, as in py_trees.
     """
 
     def tick(self, pre_tick_handler: Any = None, post_tick_handler: Any = None) -> None:
@@ -167,7 +172,7 @@ class LeanBehaviourTree(py_trees.trees.BehaviourTree):
             for visitor in visitors:
                 visitor.finalise()
         else:
-            self.root.tick_once()
+            _drain(self.root.tick())
         for handler in self.post_tick_handlers:
             handler(self)
         if post_tick_handler is not None:

@@ -220,8 +220,8 @@ def test_exception_in_a_navbt_leaf_ends_the_mission_with_its_traceback(where):
 
 
 def test_exception_in_a_control_nodes_own_tick_names_the_node_and_tick():
-    # a control node's tick code (not a lifecycle method of a leaf) raising: the executive ticks
-    # through tick_once, but the record says "tick", the one name py_trees knows for it
+    # a control node's own tick code (not a lifecycle method of a leaf) raising: the record
+    # names the node and "tick"
     from executive.tree_loader import LeanBehaviourTree
 
     class Brittle(py_trees.composites.Sequence):
@@ -231,7 +231,7 @@ def test_exception_in_a_control_nodes_own_tick_names_the_node_and_tick():
 
     ns = "/brittle"
     root = Brittle(name="brittle", memory=False, children=[DriveToGoal("drive")])
-    # unrecorded: no visitor, so the tree ticks through tick_once (a recorded one through tick)
+    # unrecorded: no visitor, the tree handle drains the root's tick generator itself
     ex = Executive(LeanBehaviourTree(root), wall_ahead_robot(Pose2D()), SimClock(), 0.1,
                    namespace=ns)
     result = ex.run([Pose2D(1.0, 0.0)], time_limit=5.0)
