@@ -584,3 +584,17 @@ def test_observations_keep_the_finite_points_within_the_source_heights():
     np.testing.assert_array_equal(got, pts[keep])
     np.testing.assert_array_equal(got[:2, 2], [0.2, 1.5])  # the limits are kept, beyond them not
     assert got.flags.c_contiguous and 0 < len(got) < len(pts)
+
+
+def test_scan_and_observation_filters_give_empty_arrays_when_nothing_is_valid():
+    from navcore.costmap.obstacle_layer import _kept_points
+    scan = LaserScan(0.0, -0.5, 0.5, 0.25, 0.0, 0.1, 0.05, 10.0,
+                     np.array([np.nan, 0.01, 10.0, np.inf, -np.inf]))
+    pts = scan_to_points(scan, Pose2D(1.0, 2.0, 0.3), 0.2)
+    assert pts.shape == (0, 3)
+    kept = _kept_points(np.empty((0, 3)), 0.0, 2.0)
+    assert kept.shape == (0, 3) and kept.flags.c_contiguous
+    # inf_is_valid turns only the +inf reading into a point just short of range_max
+    np.testing.assert_array_equal(scan_to_points(scan, Pose2D(0.0, 0.0, 0.0), 0.2, True),
+                                  [[(10.0 - 0.0001) * math.cos(0.25),
+                                    (10.0 - 0.0001) * math.sin(0.25), 0.2]])

@@ -439,7 +439,9 @@ def _observe(free: np.ndarray, occupied: np.ndarray, start: int, w: int, h: int,
     return start
 
 
-_NO_RANGES = np.empty(0, dtype=np.float32)  # no scan this cycle: no beam to stamp
+# no scan this cycle: no beam to stamp. float32 as a LaserScan's ranges, so that _observe
+# compiles once (a float64 array would be a second specialisation, seconds of cold start)
+_NO_RANGES = np.empty(0, dtype=np.float32)
 
 
 def _ranges(scan: LaserScan) -> np.ndarray:
