@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -50,13 +49,13 @@ class _Faulty:
 
 
 class _Base:
-    def __init__(self, inner: Any, f: _Faulty) -> None:
-        self.inner, self.f = inner, f
+    def __init__(self, inner: Any, f: _Faulty, wall: WallClock) -> None:
+        self.inner, self.f, self.wall = inner, f, wall
         self._held: Odometry | None = None
         self.sent: list[tuple[float, Twist]] = []   # wall time of every command sent
 
     def send(self, cmd: Twist) -> None:
-        self.sent.append((time.monotonic(), cmd))
+        self.sent.append((self.wall.now(), cmd))
         self.inner.send(cmd)
 
     def odometry(self) -> Odometry | None:
@@ -99,9 +98,9 @@ class _Laser:
 
 
 class _IO:
-    def __init__(self, inner: Any, f: _Faulty) -> None:
+    def __init__(self, inner: Any, f: _Faulty, wall: WallClock) -> None:
         self.inner = inner
-        self.base = _Base(inner.base, f)
+        self.base = _Base(inner.base, f, wall)
         self.laser = _Laser(inner.laser, f) if inner.laser is not None else None
 
     def step_to(self, t: float) -> None:
@@ -115,18 +114,18 @@ class _IO:
 
 
 class _Perception:
-    def __init__(self, inner: Any, f: _Faulty, stall: float) -> None:
-        self.inner, self.f, self.stall = inner, f, stall
+    def __init__(self, inner: Any, f: _Faulty, stall: float, wall: WallClock) -> None:
+        self.inner, self.f, self.stall, self.wall = inner, f, stall, wall
         self.stalled = False
-        self.stall_wall = math.nan   # time.monotonic() when the hung cycle began
+        self.stall_wall = math.nan   # wall.now() when the hung cycle began
 
     def estimate(self, odom: Any, scan: Any) -> Any:
         if self.f.on("localisation_raises"):
             raise RuntimeError("drill: localisation failed")
         if self.f.on("loop_stall") and not self.stalled:
             self.stalled = True
-            self.stall_wall = time.monotonic()
-            time.sleep(self.stall)         # a hung cycle, on the wall clock
+            self.stall_wall = self.wall.now()
+            self.wall.sleep_until(self.stall_wall + self.stall)  # a hung cycle, on the wall
         return self.inner.estimate(odom, scan)
 
     def perceive(self, pose: Any, scan: Any, now: float) -> None:
@@ -182,10 +181,11 @@ def drill(kind: str, start: float = 4.0, seed: int = 0, stall: float = 1.5,
     stack = Stack.from_config(config, sc.grid, clock)
     sim_io, sim = open_robot_io("sim", config, sc.grid, sc.start, world, clock, rng, namespace)
     f = _Faulty(kind, start, clock)
-    io = _IO(sim_io, f)
+    wall = WallClock()  # the commands' and the stall's times, compared with each other
+    io = _IO(sim_io, f, wall)
     localise = "amcl" in config.namespaces
     perception = _Perception(perception_for(stack, sc.grid, sc.start, rng, io, world,
-                                            localise=localise), f, stall)
+                                            localise=localise), f, stall, wall)
     mission = assemble(tree, tree_path, config, sc.grid, sc.start, stack, io, clock, rng,
                        localise=localise, sim=sim, world=world, namespace=namespace,
                        perception=perception)

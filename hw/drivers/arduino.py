@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import threading
-import time
 from collections import deque
 from typing import Any, Callable, Mapping
 
@@ -102,13 +101,13 @@ class ArduinoBaseDriver(SerialDriver):
         for _ in range(tries):
             port.write(line)
             dec = ac.LineDecoder(b"\r")
-            sent = time.monotonic()
             deadline = wire_deadline(REPLY_WAIT)
             while self._waiting(deadline):
                 for got in dec.feed(port.read(max(1, port.in_waiting))):
                     if accept(got.strip()):
                         # wire time, like the deadline: how slow this bridge answers
-                        self._latency = max(self._latency, time.monotonic() - sent)
+                        self._latency = max(self._latency,
+                                            REPLY_WAIT - deadline.time_left())
                         return got
         raise HandshakeError(f"no reply to {line!r}")
 
