@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -177,28 +178,23 @@ def test_duplicate_key_is_an_error_naming_both_lines_in_every_navbt_format(tmp_p
         load_config(robot)
     assert str(e.value) == (f"{robot}:7: 'inflation_radius' appears twice in the same mapping "
                             f"(first at line 5)")
-    scenario = tmp_path / "scn.yaml"
-    scenario.write_text("name: s\ngoals:\n  - {x: 1.0, y: 2.0, x: 3.0}\n")
-    with pytest.raises(ScenarioError, match=r"scn.yaml:3: 'x' appears twice in the same "
-                                            r"mapping \(first at line 3\)$"):
-        load_scenario(scenario)
-    map_yaml = tmp_path / "map.yaml"
-    map_yaml.write_text("image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
-                        "resolution: 0.1\n")
-    with pytest.raises(MapError, match=r"map.yaml:4: 'resolution' appears twice in the same "
-                                       r"mapping \(first at line 2\)$"):
-        load_map(map_yaml)
-    sweep = tmp_path / "sweep.yaml"
-    sweep.write_text("scenarios: s/*.yaml\ngrid:\n  DWAPlannerROS.sim_time: [1.0]\n"
-                     "  DWAPlannerROS.vx_samples: [3]\n  DWAPlannerROS.sim_time: [2.0]\n")
-    with pytest.raises(SweepError, match=r"sweep.yaml:5: 'DWAPlannerROS.sim_time' appears twice "
-                                         r"in the same mapping \(first at line 3\)$"):
-        load_sweep(sweep)
-    tree = tmp_path / "tree.yaml"
-    tree.write_text(_tree("    Wait: {msec: 1,\n           msec: 2}\n"))
-    with pytest.raises(TreeLoadError, match=r"tree.yaml:4: 'msec' appears twice in the same "
-                                            r"mapping \(first at line 3\)$"):
-        load_tree_file(tree)
+    cases = [  # file, text, loader, error, the message's line and key and first line
+        ("scn.yaml", "name: s\ngoals:\n  - {x: 1.0, y: 2.0, x: 3.0}\n", load_scenario,
+         ScenarioError, 3, "x", 3),
+        ("map.yaml", "image: map.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nresolution: 0.1\n",
+         load_map, MapError, 4, "resolution", 2),
+        ("sweep.yaml", "scenarios: s/*.yaml\ngrid:\n  DWAPlannerROS.sim_time: [1.0]\n"
+         "  DWAPlannerROS.vx_samples: [3]\n  DWAPlannerROS.sim_time: [2.0]\n", load_sweep,
+         SweepError, 5, "DWAPlannerROS.sim_time", 3),
+        ("tree.yaml", _tree("    Wait: {msec: 1,\n           msec: 2}\n"), load_tree_file,
+         TreeLoadError, 4, "msec", 3),
+    ]
+    for name, text, load, error, line, key, first in cases:
+        path = tmp_path / name
+        path.write_text(text)
+        with pytest.raises(error, match=rf"{re.escape(name)}:{line}: '{re.escape(key)}' appears "
+                                        rf"twice in the same mapping \(first at line {first}\)$"):
+            load(path)
 
 
 def test_merged_keys_may_be_overridden_and_keys_compare_by_type() -> None:
